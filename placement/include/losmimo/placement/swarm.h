@@ -1,0 +1,67 @@
+#pragma once
+// The swarm during a placement run: true UAV positions, their channel, the paper's error
+// models, and the distance each UAV has flown.
+//
+// Errors (paper section 2), drawn from the swarm's own generator:
+// - localization: an estimate of UAV m's position is q_m + N(0, sigma_loc_m^2 I), drawn
+//   fresh at every estimate;
+// - actuation: a commanded motion r from q_m ends at q_m + r + N(0, sigma_act_m^2 I).
+// Distances are the true straight-line lengths flown, placement moves and BF probe motions
+// kept apart.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <random>
+
+#include "losmimo/placement/swarm_channel.h"
+
+namespace losmimo::placement {
+
+struct ErrorModel {
+  double sigma_loc_m = 0.0;
+  double sigma_act_m = 0.0;
+};
+// Throws std::invalid_argument naming the field if a sigma is negative or not finite.
+void validate(const ErrorModel& errors);
+
+enum class MotionKind { kPlacement, kProbe };
+
+class Swarm {
+ public:
+  Swarm(const ChannelModel& model, const Eigen::Matrix3Xd& start_m, const ErrorModel& errors,
+        std::uint64_t seed);
+
+  int num_uavs() const { return static_cast<int>(q_m_.cols()); }
+  const Eigen::Matrix3Xd& true_positions_m() const { return q_m_; }
+  const SwarmChannel& channel() const { return channel_; }
+  const ErrorModel& errors() const { return errors_; }
+
+  // Where UAV m believes it is (see the error model above).
+  Eigen::Vector3d estimate_position(int m);
+  // Commands UAV m to move by r_m; returns the true displacement.
+  Eigen::Vector3d move(int m, const Eigen::Vector3d& r_m, MotionKind kind);
+
+  const Eigen::VectorXd& placement_distance_m() const { return placement_dist_m_; }
+  const Eigen::VectorXd& probe_distance_m() const { return probe_dist_m_; }
+
+  // A different localization source (e.g. a filter's belief) replaces the Gaussian model.
+  using PositionEstimator = std::function<Eigen::Vector3d(int m, const Eigen::Vector3d& true_q_m)>;
+  void set_position_estimator(PositionEstimator estimator) { estimator_ = std::move(estimator); }
+
+  std::mt19937_64& rng() { return rng_; }
+
+ private:
+  Eigen::Vector3d gaussian(double sigma);
+
+  Eigen::Matrix3Xd q_m_;
+  SwarmChannel channel_;
+  ErrorModel errors_;
+  std::mt19937_64 rng_;
+  std::normal_distribution<double> normal_{0.0, 1.0};
+  Eigen::VectorXd placement_dist_m_;
+  Eigen::VectorXd probe_dist_m_;
+  PositionEstimator estimator_;
+};
+
+}  // namespace losmimo::placement

@@ -1,0 +1,70 @@
+#include "losmimo/placement/scenario.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace losmimo::placement {
+
+std::string to_string(GainModel model) {
+  return model == GainModel::kExact ? "exact" : "far_field";
+}
+
+GainModel gain_model_from_string(const std::string& text) {
+  if (text == "far_field") return GainModel::kFarField;
+  if (text == "exact") return GainModel::kExact;
+  throw std::invalid_argument("gain_model must be 'far_field' or 'exact', got '" + text + "'");
+}
+
+double Scenario::wavelength_m() const { return kSpeedOfLight_m_per_s / carrier_hz; }
+
+double Scenario::reference_gain() const { return wavelength_m() / (4.0 * M_PI * range_m()); }
+
+double Scenario::noise_variance() const { return std::pow(10.0, -snr_db / 10.0); }
+
+namespace {
+template <typename T>
+[[noreturn]] void bad_field(const char* field, const T& value, const char* requirement) {
+  std::ostringstream msg;
+  msg << "scenario." << field << " = " << value << ": " << requirement;
+  throw std::invalid_argument(msg.str());
+}
+}  // namespace
+
+void validate(const Scenario& s) {
+  if (s.bs_rows < 1 || s.bs_rows > 64) bad_field("bs_rows", s.bs_rows, "must be in [1, 64]");
+  if (s.bs_cols < 1 || s.bs_cols > 64) bad_field("bs_cols", s.bs_cols, "must be in [1, 64]");
+  if (!(s.bs_spacing_m > 0.0) || !std::isfinite(s.bs_spacing_m))
+    bad_field("bs_spacing_m", s.bs_spacing_m, "must be a finite positive number");
+  if (!(s.carrier_hz > 0.0) || !std::isfinite(s.carrier_hz))
+    bad_field("carrier_hz", s.carrier_hz, "must be a finite positive number");
+  if (s.num_uavs < 1 || s.num_uavs > 4096) bad_field("num_uavs", s.num_uavs, "must be in [1, 4096]");
+  if (!(s.cube_side_m >= 0.0) || !std::isfinite(s.cube_side_m))
+    bad_field("cube_side_m", s.cube_side_m, "must be a finite number >= 0");
+  if (!s.cube_center_m.allFinite()) bad_field("cube_center_m", s.cube_center_m.transpose(), "must be finite");
+  if (!(s.cube_center_m.x() - 0.5 * s.cube_side_m > 0.0))
+    bad_field("cube_center_x_m", s.cube_center_m.x(), "the start cube must lie entirely in front of the BS (x > 0)");
+  if (!std::isfinite(s.snr_db)) bad_field("snr_db", s.snr_db, "must be finite");
+}
+
+Eigen::Matrix3Xd bs_antenna_positions_m(const Scenario& s) {
+  Eigen::Matrix3Xd p(3, s.num_bs_antennas());
+  for (int r = 0; r < s.bs_rows; ++r) {
+    for (int c = 0; c < s.bs_cols; ++c) {
+      p.col(r * s.bs_cols + c) << 0.0, (c - 0.5 * (s.bs_cols - 1)) * s.bs_spacing_m,
+          (r - 0.5 * (s.bs_rows - 1)) * s.bs_spacing_m;
+    }
+  }
+  return p;
+}
+
+Eigen::Matrix3Xd random_start_positions_m(const Scenario& s, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> unit(-0.5, 0.5);
+  Eigen::Matrix3Xd q(3, s.num_uavs);
+  for (int n = 0; n < s.num_uavs; ++n) {
+    for (int i = 0; i < 3; ++i) q(i, n) = s.cube_center_m(i) + s.cube_side_m * unit(rng);
+  }
+  return q;
+}
+
+}  // namespace losmimo::placement
