@@ -1,0 +1,118 @@
+#pragma once
+// The common interface of the position filters (EKF and particle filter, both through MRPT).
+//
+// State q_k = UAV position at epoch k in the BS array frame [m] (position only: the UAV's
+// velocity is not estimated; dead reckoning supplies the motion between epochs).
+// Motion:  q_k = q_{k-1} + d_k - n_k,  d_k the measured displacement (dead reckoning),
+//          n_k ~ N(0, sigma_d(|d_k|)^2 I),  sigma_d(s) = dr_sigma_floor_m + dr_sigma_fraction * s.
+//          The actuation error is inside the true displacement that dead reckoning measures,
+//          so it needs no separate term here.
+// Beacon:  z_k = h(q_k) + v_k, v_k ~ N(0, R) (beacon_model.h).
+//
+// One call to step() is one epoch: predict with d_k, then fuse the beacon if there is one and
+// it passes the checks. Robustness, on by default:
+//  - non-finite displacement: the epoch predicts with d = 0 and sigma missing_displacement_sigma_m;
+//  - non-finite beacon, or beacon with rho < kMinBeaconRho_m at the prediction: not fused;
+//  - Mahalanobis gate: fuse only if y^T S^-1 y <= gate_chi2 (y innovation, S = H P H^T + R);
+//    after reset_after_rejections gated beacons in a row the filter re-initialises from the
+//    next beacon fix (the belief had lost track, and the gate would reject forever);
+//  - noise floors on every sigma; covariance symmetrised with eigenvalues >= min_variance_m2;
+//  - degraded when epochs_since_beacon >= degraded_after_epochs, or when the largest 1-sigma
+//    axis of the covariance exceeds degraded_sigma_m;
+//  - counters of everything rejected (FilterCounters).
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "losmimo/localization/measurements.h"
+
+namespace losmimo::localization {
+
+enum class FilterKind { kEkf, kParticle };
+enum class ResamplingMethod { kMultinomial, kResidual, kStratified, kSystematic };
+
+std::string to_string(FilterKind kind);
+FilterKind filter_kind_from_string(const std::string& text);  // "ekf" or "pf"
+std::string to_string(ResamplingMethod method);
+// "multinomial", "residual", "stratified" or "systematic".
+ResamplingMethod resampling_method_from_string(const std::string& text);
+
+// What the filter assumes about its sensors (the truth lives in SimulatorConfig).
+struct NoiseModel {
+  double sigma_range_m = 0.1;       // beacon range 1-sigma
+  double sigma_angle_rad = 1e-4;    // beacon azimuth and elevation 1-sigma
+  double dr_sigma_floor_m = 0.01;   // dead-reckoning 1-sigma per axis, per epoch, at rest
+  double dr_sigma_fraction = 0.02;  // ... plus this fraction of the distance moved
+};
+
+struct FilterConfig {
+  NoiseModel noise;
+
+  // Gate on the squared Mahalanobis distance of the innovation; 16.27 is the 3-dof chi-square
+  // quantile at p = 0.999 (a clean beacon is rejected once in a thousand).
+  bool gate_enabled = true;
+  double gate_chi2 = 16.27;
+  int reset_after_rejections = 10;  // 0: never re-initialise from a beacon fix
+
+  int degraded_after_epochs = 10;
+  double degraded_sigma_m = 1.0;
+
+  // Noise floors: the filter never assumes a sensor better than this.
+  double min_sigma_range_m = 1e-3;
+  double min_sigma_angle_rad = 1e-6;
+  double min_sigma_displacement_m = 1e-4;
+  double min_variance_m2 = 1e-10;  // eigenvalue floor of the covariance
+  double missing_displacement_sigma_m = 1.0;
+
+  // Particle filter only.
+  int num_particles = 1000;
+  ResamplingMethod resampling = ResamplingMethod::kSystematic;
+  double ess_threshold = 0.5;  // resample when ESS / N < this, in (0, 1]
+};
+
+// Throws std::invalid_argument naming the first bad field and its value.
+void validate(const FilterConfig& config);
+// Throws std::invalid_argument if the belief is non-finite or its covariance not SPD.
+void validate(const Belief& belief);
+
+struct FilterCounters {
+  std::int64_t epochs = 0;
+  std::int64_t beacons_received = 0;  // step() calls with a beacon
+  std::int64_t beacons_fused = 0;
+  std::int64_t rejected_non_finite_displacement = 0;
+  std::int64_t rejected_non_finite_beacon = 0;
+  std::int64_t rejected_geometry = 0;  // prediction too close to the array's z axis
+  std::int64_t rejected_gate = 0;
+  std::int64_t resets = 0;              // re-initialisations from a beacon fix
+  std::int64_t covariance_repairs = 0;  // eigenvalues raised to min_variance_m2
+  std::int64_t resamplings = 0;         // particle filter only
+
+  std::int64_t rejected_total() const {
+    return rejected_non_finite_displacement + rejected_non_finite_beacon + rejected_geometry +
+           rejected_gate;
+  }
+};
+
+class PositionFilter {
+ public:
+  virtual ~PositionFilter() = default;
+
+  // One epoch: prediction with the measured displacement, then the beacon if any.
+  virtual void step(const Eigen::Vector3d& measured_displacement_m,
+                    const std::optional<BeaconMeasurement>& beacon) = 0;
+  virtual Belief belief() const = 0;
+  virtual const FilterCounters& counters() const = 0;
+  virtual FilterKind kind() const = 0;
+};
+
+// A filter starting from `initial` (validated). `seed` drives the filter's own random generator
+// (the particle filter's; the EKF draws no random numbers): equal seeds, equal results, in any
+// thread.
+std::unique_ptr<PositionFilter> make_filter(FilterKind kind, const FilterConfig& config,
+                                            const Belief& initial, std::uint64_t seed);
+
+}  // namespace losmimo::localization

@@ -1,0 +1,210 @@
+#include "losmimo/localization/particle_filter.h"
+
+#include <mrpt/bayes/CParticleFilter.h>
+#include <mrpt/bayes/CParticleFilterData.h>
+#include <mrpt/random/RandomGenerators.h>
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "losmimo/localization/beacon_model.h"
+#include "losmimo/localization/resampling.h"
+#include "losmimo/localization/robustness.h"
+
+namespace losmimo::localization {
+
+namespace {
+
+using mrpt::bayes::particle_storage_mode;
+using ParticleData = mrpt::bayes::CParticleFilterData<Eigen::Vector3d, particle_storage_mode::VALUE>;
+
+// Weighted mean and covariance of the particle cloud (normalised linear weights).
+void moments(const ParticleData::CParticleList& particles, Eigen::Vector3d& mean_m,
+             Eigen::Matrix3d& cov_m2) {
+  std::vector<double> log_w;
+  log_w.reserve(particles.size());
+  for (const auto& p : particles) log_w.push_back(p.log_w);
+  const std::vector<double> w = normalized_weights(log_w);
+  mean_m.setZero();
+  for (std::size_t i = 0; i < particles.size(); ++i) mean_m += w[i] * particles[i].d;
+  cov_m2.setZero();
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const Eigen::Vector3d e = particles[i].d - mean_m;
+    cov_m2 += w[i] * e * e.transpose();
+  }
+}
+
+}  // namespace
+
+std::uint32_t fold_seed(std::uint64_t seed) {
+  // splitmix64 finaliser: nearby seeds (trial 0, 1, 2...) give unrelated generator states.
+  std::uint64_t z = seed + 0x9E3779B97F4A7C15ULL;
+  z = (z ^ (z >> 30U)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27U)) * 0x94D049BB133111EBULL;
+  z ^= z >> 31U;
+  return static_cast<std::uint32_t>(z ^ (z >> 32U));
+}
+
+// The particle set MRPT's CParticleFilter runs on. The epoch's inputs are set before
+// executeOn(); MRPT's action/observation pointers are unused (nullptr), which keeps
+// mrpt::obs out of this library.
+class ParticlePositionFilter::Mrpt final
+    : public ParticleData,
+      public mrpt::bayes::CParticleFilterDataImpl<Mrpt, ParticleData::CParticleList> {
+ public:
+  Mrpt(const FilterConfig& config, const Belief& initial, std::uint64_t seed)
+      : config_(config), rng_(fold_seed(seed)), epochs_since_beacon_(initial.epochs_since_beacon) {
+    pf_.m_options.PF_algorithm = mrpt::bayes::CParticleFilter::pfStandardProposal;
+    pf_.m_options.sampleSize = static_cast<unsigned int>(config.num_particles);
+    pf_.m_options.adaptiveSampleSize = false;
+    pf_.m_options.resamplingMethod = to_mrpt(config.resampling);
+    // ESS() is never < 0: MRPT's own (global-generator) resampling never runs; see header.
+    pf_.m_options.BETA = 0.0;
+    draw_from(initial.mean_m, initial.cov_m2);
+    update_belief();
+  }
+
+  void step(const Eigen::Vector3d& measured_displacement_m,
+            const std::optional<BeaconMeasurement>& beacon) {
+    ++counters_.epochs;
+    if (measured_displacement_m.allFinite()) {
+      u_m_ = measured_displacement_m;
+      sigma_q_m_ = displacement_sigma_m(config_, measured_displacement_m.norm());
+    } else {
+      ++counters_.rejected_non_finite_displacement;
+      u_m_.setZero();
+      sigma_q_m_ = config_.missing_displacement_sigma_m;
+    }
+    beacon_ = beacon;
+    verdict_ = BeaconVerdict::kNone;
+
+    pf_.executeOn(*this, nullptr, nullptr);
+    last_ess_ = ESS();
+
+    if (verdict_ == BeaconVerdict::kReset) {
+      draw_from(reset_belief_.mean_m, reset_belief_.cov_m2);
+    } else if (last_ess_ < config_.ess_threshold) {
+      resample();
+    }
+    const bool used_beacon = verdict_ == BeaconVerdict::kFuse || verdict_ == BeaconVerdict::kReset;
+    epochs_since_beacon_ = used_beacon ? 0 : epochs_since_beacon_ + 1;
+    update_belief();
+  }
+
+  const Belief& belief() const { return belief_; }
+  const FilterCounters& counters() const { return counters_; }
+  int num_particles() const { return static_cast<int>(m_particles.size()); }
+  double last_normalized_ess() const { return last_ess_; }
+
+ protected:
+  void prediction_and_update_pfStandardProposal(
+      const mrpt::obs::CActionCollection* /*action*/, const mrpt::obs::CSensoryFrame* /*obs*/,
+      const mrpt::bayes::CParticleFilter::TParticleFilterOptions& /*options*/) override {
+    // Proposal = motion model.
+    for (auto& p : m_particles) {
+      for (int a = 0; a < 3; ++a) p.d(a) += u_m_(a) + sigma_q_m_ * rng_.drawGaussian1D_normalized();
+    }
+    if (!beacon_) return;
+    Eigen::Vector3d mean_m;
+    Eigen::Matrix3d cov_m2;
+    moments(m_particles, mean_m, cov_m2);
+    verdict_ = screen_beacon(config_, beacon_, mean_m, cov_m2, consecutive_gated_, counters_);
+    if (verdict_ == BeaconVerdict::kReset) {
+      reset_belief_ = beacon_fix(*beacon_,
+                                 std::max(config_.noise.sigma_range_m, config_.min_sigma_range_m),
+                                 std::max(config_.noise.sigma_angle_rad, config_.min_sigma_angle_rad));
+      return;
+    }
+    if (verdict_ != BeaconVerdict::kFuse) return;
+    // Likelihood: R is diagonal, so y^T R^-1 y is a sum of three squares.
+    const Eigen::Vector3d z = to_vector(*beacon_);
+    const Eigen::Vector3d inv_var = floored_beacon_cov(config_).diagonal().cwiseInverse();
+    for (auto& p : m_particles) {
+      const Eigen::Vector3d y = beacon_innovation(z, beacon_predict(p.d));
+      p.log_w += -0.5 * y.cwiseAbs2().dot(inv_var);
+    }
+  }
+
+ private:
+  static mrpt::bayes::CParticleFilter::TParticleResamplingAlgorithm to_mrpt(
+      ResamplingMethod method) {
+    switch (method) {
+      case ResamplingMethod::kMultinomial: return mrpt::bayes::CParticleFilter::prMultinomial;
+      case ResamplingMethod::kResidual: return mrpt::bayes::CParticleFilter::prResidual;
+      case ResamplingMethod::kStratified: return mrpt::bayes::CParticleFilter::prStratified;
+      case ResamplingMethod::kSystematic: return mrpt::bayes::CParticleFilter::prSystematic;
+    }
+    return mrpt::bayes::CParticleFilter::prSystematic;
+  }
+
+  // Replaces the cloud by N equally weighted draws from N(mean, cov).
+  void draw_from(const Eigen::Vector3d& mean_m, const Eigen::Matrix3d& cov_m2) {
+    Eigen::Matrix3d P = cov_m2;
+    make_spd(P, config_.min_variance_m2, config_.missing_displacement_sigma_m *
+                                             config_.missing_displacement_sigma_m);
+    const Eigen::Matrix3d L = P.llt().matrixL();
+    m_particles.resize(static_cast<std::size_t>(config_.num_particles));
+    for (auto& p : m_particles) {
+      Eigen::Vector3d n;
+      for (int a = 0; a < 3; ++a) n(a) = rng_.drawGaussian1D_normalized();
+      p.d = mean_m + L * n;
+      p.log_w = 0.0;
+    }
+  }
+
+  void resample() {
+    std::vector<double> log_w;
+    log_w.reserve(m_particles.size());
+    for (const auto& p : m_particles) log_w.push_back(p.log_w);
+    performSubstitution(resampling_indices(config_.resampling, log_w, rng_));
+    for (auto& p : m_particles) p.log_w = 0.0;
+    ++counters_.resamplings;
+  }
+
+  void update_belief() {
+    moments(m_particles, belief_.mean_m, belief_.cov_m2);
+    if (make_spd(belief_.cov_m2, config_.min_variance_m2,
+                 config_.missing_displacement_sigma_m * config_.missing_displacement_sigma_m)) {
+      ++counters_.covariance_repairs;
+    }
+    apply_health(config_, epochs_since_beacon_, belief_);
+  }
+
+  FilterConfig config_;
+  mrpt::bayes::CParticleFilter pf_;
+  mrpt::random::CRandomGenerator rng_;
+  FilterCounters counters_;
+  int epochs_since_beacon_ = 0;
+  int consecutive_gated_ = 0;
+  double last_ess_ = 1.0;
+  Belief belief_;
+  // Inputs of the current epoch, read by prediction_and_update_pfStandardProposal().
+  Eigen::Vector3d u_m_ = Eigen::Vector3d::Zero();
+  double sigma_q_m_ = 0.0;
+  std::optional<BeaconMeasurement> beacon_;
+  BeaconVerdict verdict_ = BeaconVerdict::kNone;
+  Belief reset_belief_;
+};
+
+ParticlePositionFilter::ParticlePositionFilter(const FilterConfig& config, const Belief& initial,
+                                               std::uint64_t seed) {
+  validate(config);
+  validate(initial);
+  pf_ = std::make_unique<Mrpt>(config, initial, seed);
+}
+
+ParticlePositionFilter::~ParticlePositionFilter() = default;
+
+void ParticlePositionFilter::step(const Eigen::Vector3d& measured_displacement_m,
+                                  const std::optional<BeaconMeasurement>& beacon) {
+  pf_->step(measured_displacement_m, beacon);
+}
+
+Belief ParticlePositionFilter::belief() const { return pf_->belief(); }
+const FilterCounters& ParticlePositionFilter::counters() const { return pf_->counters(); }
+int ParticlePositionFilter::num_particles() const { return pf_->num_particles(); }
+double ParticlePositionFilter::last_normalized_ess() const { return pf_->last_normalized_ess(); }
+
+}  // namespace losmimo::localization
