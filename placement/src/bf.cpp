@@ -7,37 +7,62 @@
 
 namespace losmimo::placement {
 
-void validate(const BfOptions& o) {
-  if (!(o.step > 0.0) || !std::isfinite(o.step)) {
+namespace {
+void require_in(const char* field, double value, double lo, double hi, bool lo_open) {
+  const bool ok = std::isfinite(value) && (lo_open ? value > lo : value >= lo) && value <= hi;
+  if (!ok) {
     std::ostringstream msg;
-    msg << "bf.step = " << o.step << ": must be a finite positive number";
-    throw std::invalid_argument(msg.str());
-  }
-  if (!(o.decay > 0.0 && o.decay <= 1.0)) {
-    std::ostringstream msg;
-    msg << "bf.decay = " << o.decay << ": must be in (0, 1]";
+    msg << field << " = " << value << ": must be in " << (lo_open ? "(" : "[") << lo << ", " << hi
+        << "]";
     throw std::invalid_argument(msg.str());
   }
 }
 
-BruteForcePlanner::BruteForcePlanner(const BfOptions& options) : options_(options) {
+// Flies to r, measures f with the others fixed, flies back: one probe.
+double probe(Swarm& swarm, const UavObjective& view, int m, const Eigen::Vector3d& r) {
+  swarm.move(m, r, MotionKind::kProbe);
+  const double f = view.objective_of_row(swarm.channel().H().row(m).transpose());
+  swarm.move(m, -r, MotionKind::kProbe);
+  return f;
+}
+}  // namespace
+
+void validate(const BfOptions& o) {
+  require_in("bf.step", o.step, 0.0, 1e6, true);
+  require_in("bf.decay", o.decay, 0.0, 1.0, true);
+  require_in("bf.contraction", o.contraction, 0.0, 1.0, true);
+  require_in("bf.min_step_m", o.min_step_m, 0.0, 1e6, true);
+  require_in("bf.stall_min_decrease", o.stall_min_decrease, 0.0, 1.0, true);
+  if (o.stall_window < 1 || o.stall_window > 100000)
+    throw std::invalid_argument("bf.stall_window = " + std::to_string(o.stall_window) +
+                                ": must be in [1, 100000]");
+}
+
+BruteForcePlanner::BruteForcePlanner(const Scenario& scenario, const BfOptions& options)
+    : options_(options),
+      wavelength_m_(scenario.wavelength_m()),
+      bs_spacing_m_(scenario.bs_spacing_m),
+      stall_(options.stall_window, options.stall_min_decrease) {
   validate(options_);
 }
 
-int BruteForcePlanner::step_uav(Swarm& swarm, int m, int iteration) const {
+void BruteForcePlanner::start(Swarm& swarm) {
+  step_scale_ = Eigen::VectorXd::Ones(swarm.num_uavs());
+  stall_.reset();
+  escape_rank_ = 0;
+}
+
+int BruteForcePlanner::step_uav(Swarm& swarm, int m, double b) {
   static const std::array<Eigen::Vector3d, 7> kProbes = {
       Eigen::Vector3d(0, 0, 0),  Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(-1, 0, 0),
       Eigen::Vector3d(0, 1, 0),  Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(0, 0, 1),
       Eigen::Vector3d(0, 0, -1)};
-  const double b = options_.step * std::pow(options_.decay, iteration - 1);
   // The others do not move while UAV m probes: their Gram matrix is fixed.
   const UavObjective view(swarm.channel(), m);
   int best = 0;
   double best_f = view.objective_of_row(swarm.channel().H().row(m).transpose());
   for (int z = 1; z < static_cast<int>(kProbes.size()); ++z) {
-    swarm.move(m, b * kProbes[z], MotionKind::kProbe);
-    const double f = view.objective_of_row(swarm.channel().H().row(m).transpose());
-    swarm.move(m, -b * kProbes[z], MotionKind::kProbe);
+    const double f = probe(swarm, view, m, b * kProbes[z]);
     if (f < best_f) {
       best_f = f;
       best = z;
@@ -47,8 +72,48 @@ int BruteForcePlanner::step_uav(Swarm& swarm, int m, int iteration) const {
   return best;
 }
 
+bool BruteForcePlanner::try_escape(Swarm& swarm) {
+  constexpr int kReach = 4;  // probes at 1..4 eighths of the lateral period
+  const std::vector<int> order = uavs_by_redundancy(swarm.channel());
+  const int m = order[escape_rank_ % static_cast<int>(order.size())];
+  const UavObjective view(swarm.channel(), m);
+  // Depth from the scenario geometry (|q| ~ R): BF never uses its own position.
+  const double depth_m = swarm.channel().model().range_m();
+  const double spacing = lateral_period_m(wavelength_m_, depth_m, bs_spacing_m_) / (2 * kReach);
+  const double f0 = view.objective_of_row(swarm.channel().H().row(m).transpose());
+  Eigen::Vector3d best_r = Eigen::Vector3d::Zero();
+  double best_f = f0;
+  for (int i = -kReach; i <= kReach; ++i) {
+    for (int k = -kReach; k <= kReach; ++k) {
+      if (k == 0 && i == 0) continue;
+      const Eigen::Vector3d r(0.0, i * spacing, k * spacing);
+      const double f = probe(swarm, view, m, r);
+      if (f < best_f) {
+        best_f = f;
+        best_r = r;
+      }
+    }
+  }
+  if (best_f < (1.0 - options_.stall_min_decrease) * f0) {
+    swarm.move(m, best_r, MotionKind::kPlacement);
+    escape_rank_ = 0;
+    return true;
+  }
+  ++escape_rank_;
+  return false;
+}
+
 void BruteForcePlanner::iterate(Swarm& swarm, int iteration) {
-  for (int m = 0; m < swarm.num_uavs(); ++m) step_uav(swarm, m, iteration);
+  const double b = options_.step * std::pow(options_.decay, iteration - 1);
+  for (int m = 0; m < swarm.num_uavs(); ++m) {
+    const double b_m = std::max(b * step_scale_(m), std::min(b, options_.min_step_m));
+    const bool moved = step_uav(swarm, m, b_m) != 0;
+    step_scale_(m) = moved ? std::min(1.0, step_scale_(m) / options_.contraction)
+                           : step_scale_(m) * options_.contraction;
+  }
+  if (options_.escape && stall_.update(swarm.channel().objective()) && try_escape(swarm)) {
+    stall_.reset();
+  }
 }
 
 }  // namespace losmimo::placement

@@ -24,22 +24,63 @@ void validate(const GdOptions& o) {
     msg << "gd.decay = " << o.decay << ": must be in (0, 1]";
     throw std::invalid_argument(msg.str());
   }
+  require_positive("gd.stall_min_decrease", o.stall_min_decrease);
+  if (o.stall_window < 1 || o.stall_window > 100000)
+    throw std::invalid_argument("gd.stall_window = " + std::to_string(o.stall_window) +
+                                ": must be in [1, 100000]");
   if (o.max_halvings < 0 || o.max_halvings > 60)
     throw std::invalid_argument("gd.max_halvings = " + std::to_string(o.max_halvings) +
                                 ": must be in [0, 60]");
 }
 
-GradientDescentPlanner::GradientDescentPlanner(const GdOptions& options) : options_(options) {
+GradientDescentPlanner::GradientDescentPlanner(const Scenario& scenario, const GdOptions& options)
+    : options_(options),
+      wavelength_m_(scenario.wavelength_m()),
+      bs_spacing_m_(scenario.bs_spacing_m),
+      stall_(options.stall_window, options.stall_min_decrease) {
   validate(options_);
+}
+
+void GradientDescentPlanner::start(Swarm& /*swarm*/) {
+  stall_.reset();
+  escape_rank_ = 0;
+}
+
+bool GradientDescentPlanner::try_escape(Swarm& swarm) {
+  constexpr int kHalfGrid = 4;  // (2 * 4 + 1)^2 candidates, spacing period / 8
+  const std::vector<int> order = uavs_by_redundancy(swarm.channel());
+  const int m = order[escape_rank_ % static_cast<int>(order.size())];
+  const Eigen::Vector3d q_hat = swarm.estimate_position(m);
+  const UavObjective view(swarm.channel(), m);
+  const double spacing = lateral_period_m(wavelength_m_, q_hat.x(), bs_spacing_m_) / (2 * kHalfGrid);
+  Eigen::Vector3d best_offset = Eigen::Vector3d::Zero();
+  const double f0 = view.objective_at(q_hat);
+  double best_f = f0;
+  for (int i = -kHalfGrid; i <= kHalfGrid; ++i) {
+    for (int j = -kHalfGrid; j <= kHalfGrid; ++j) {
+      const Eigen::Vector3d offset(0.0, i * spacing, j * spacing);
+      const double f = view.objective_at(q_hat + offset);
+      if (f < best_f) {
+        best_f = f;
+        best_offset = offset;
+      }
+    }
+  }
+  if (best_f < (1.0 - options_.stall_min_decrease) * f0) {
+    swarm.move(m, best_offset, MotionKind::kPlacement);
+    escape_rank_ = 0;
+    return true;
+  }
+  ++escape_rank_;
+  return false;
 }
 
 Eigen::Vector3d GradientDescentPlanner::plan_move(const Swarm& swarm, int m,
                                                   const Eigen::Vector3d& q_hat_m,
                                                   int iteration) const {
   const UavObjective view(swarm.channel(), m);
-  const double f_scale = swarm.num_uavs();
   const double b = options_.step * std::pow(options_.decay, iteration - 1);
-  Eigen::Vector3d r = -b * view.gradient_at(q_hat_m) / f_scale;
+  Eigen::Vector3d r = -b * view.gradient_at(q_hat_m) / swarm.num_uavs();
   if (!r.allFinite()) return Eigen::Vector3d::Zero();
   const double norm = r.norm();
   if (norm > options_.max_move_m) r *= options_.max_move_m / norm;
@@ -55,7 +96,12 @@ void GradientDescentPlanner::iterate(Swarm& swarm, int iteration) {
   const int nr = swarm.num_uavs();
   Eigen::Matrix3Xd q_hat(3, nr);
   for (int m = 0; m < nr; ++m) q_hat.col(m) = swarm.estimate_position(m);
-  for (int m = 0; m < nr; ++m) swarm.move(m, plan_move(swarm, m, q_hat.col(m), iteration), MotionKind::kPlacement);
+  for (int m = 0; m < nr; ++m) {
+    swarm.move(m, plan_move(swarm, m, q_hat.col(m), iteration), MotionKind::kPlacement);
+  }
+  if (options_.escape && stall_.update(swarm.channel().objective()) && try_escape(swarm)) {
+    stall_.reset();
+  }
 }
 
 }  // namespace losmimo::placement

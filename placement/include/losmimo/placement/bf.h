@@ -5,27 +5,49 @@
 // its channel row (hence f with the others' broadcast rows) and flies back, each flight
 // subject to actuation error; it then moves by b_i times the probe of least measured f.
 // Probe flights are counted as probe distance, the final move as placement distance.
+//
+// Robustness, both location-free: (1) compass contraction: a UAV whose best probe is z = 0
+// multiplies its own step by `contraction` (down to min_step_m) and grows it back by
+// 1 / contraction after a successful move (1 = the paper's fixed schedule); the paper's fixed
+// step oscillates around ICN ~0.93 for hundreds of iterations. (2) escape: when f stalls
+// (stall.h) the most redundant UAV (from CSI) probes farther, on the lateral grid of eighths
+// of the lateral period within half a period (80 probe flights, rare), and moves to the best
+// point if it lowers f. Probing only along the axes left 2 of 40 paper starts stuck.
 
 #include "losmimo/placement/run.h"
+#include "losmimo/placement/stall.h"
 
 namespace losmimo::placement {
 
 struct BfOptions {
   double step = 0.3;
   double decay = 0.999;
+  double contraction = 0.5;
+  double min_step_m = 0.01;
+  bool escape = true;
+  int stall_window = 20;
+  double stall_min_decrease = 0.01;
 };
 void validate(const BfOptions& options);
 
 class BruteForcePlanner : public Planner {
  public:
-  explicit BruteForcePlanner(const BfOptions& options);
+  BruteForcePlanner(const Scenario& scenario, const BfOptions& options);
   std::string name() const override { return "bf"; }
+  void start(Swarm& swarm) override;
   void iterate(Swarm& swarm, int iteration) override;
-  // Probes and moves one UAV; returns the index (0..6) of the chosen probe.
-  int step_uav(Swarm& swarm, int m, int iteration) const;
+  // Probes and moves one UAV with step b (metres); returns the index (0..6) of the chosen probe.
+  static int step_uav(Swarm& swarm, int m, double b);
 
  private:
+  bool try_escape(Swarm& swarm);
+
   BfOptions options_;
+  double wavelength_m_;
+  double bs_spacing_m_;
+  Eigen::VectorXd step_scale_;  // per-UAV compass factor in (0, 1]
+  StallDetector stall_;
+  int escape_rank_ = 0;
 };
 
 }  // namespace losmimo::placement

@@ -32,6 +32,7 @@ class ChannelModel {
   const Eigen::Matrix3Xd& antennas_m() const { return antennas_m_; }
   int num_antennas() const { return static_cast<int>(antennas_m_.cols()); }
   double wavenumber_rad_per_m() const { return wavenumber_rad_per_m_; }
+  double range_m() const { return range_m_; }
   GainModel gain_model() const { return gain_model_; }
 
  private:

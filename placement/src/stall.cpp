@@ -1,0 +1,37 @@
+#include "losmimo/placement/stall.h"
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <numeric>
+
+namespace losmimo::placement {
+
+StallDetector::StallDetector(int window, double min_relative_decrease)
+    : window_(window), min_relative_decrease_(min_relative_decrease), history_(window + 1) {}
+
+bool StallDetector::update(double objective) {
+  // Ring buffer of the last window + 1 values.
+  history_(count_ % (window_ + 1)) = objective;
+  ++count_;
+  if (count_ <= window_) return false;
+  const double oldest = history_(count_ % (window_ + 1));
+  return objective > (1.0 - min_relative_decrease_) * oldest;
+}
+
+void StallDetector::reset() { count_ = 0; }
+
+std::vector<int> uavs_by_redundancy(const SwarmChannel& channel) {
+  const Eigen::JacobiSVD<Eigen::MatrixXcd> svd(channel.H(), Eigen::ComputeThinU);
+  const Eigen::Index weakest = svd.singularValues().size() - 1;
+  const Eigen::VectorXd weight = svd.matrixU().col(weakest).cwiseAbs2();
+  std::vector<int> order(weight.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return weight(a) > weight(b); });
+  return order;
+}
+
+double lateral_period_m(double wavelength_m, double depth_m, double bs_spacing_m) {
+  return wavelength_m * depth_m / bs_spacing_m;
+}
+
+}  // namespace losmimo::placement
