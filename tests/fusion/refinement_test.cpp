@@ -1,0 +1,263 @@
+// Sliding-window refinement (fusion/refinement.h) on simulated windows: seeded, never retried.
+#include "losmimo/fusion/refinement.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <random>
+#include <vector>
+
+namespace losmimo::fusion {
+namespace {
+
+// Prior of the oldest epoch: a filter that has fused the beacon for a while [m].
+const Eigen::Vector3d kPriorSigma_m(0.20, 0.15, 0.15);
+constexpr int kMonteCarloRuns = 200;
+// 95% two-sided chi-square band of the average NEES over kMonteCarloRuns runs, 3 dof:
+// chi2(3 * 200) quantiles 0.025 / 0.975 are 533.0 / 670.8, divided by 200.
+constexpr double kNeesLow = 533.0 / kMonteCarloRuns;
+constexpr double kNeesHigh = 670.8 / kMonteCarloRuns;
+
+struct DrawnWindow {
+  std::vector<RefinementEpoch> epochs;
+  Eigen::Matrix3Xd truth_m;
+};
+
+// A UAV flying placement-sized steps (0.1 - 1 m) near the start cube, with every sensor drawn
+// from the model the refinement assumes. noise_scale = 0 gives exact measurements and prior.
+DrawnWindow draw_window(const placement::ChannelModel& model, const RefinementConfig& config,
+                        int num_epochs, std::mt19937_64& rng, double noise_scale = 1.0) {
+  std::normal_distribution<double> n01;
+  std::uniform_real_distribution<double> cube(-25.0, 25.0);
+  std::uniform_real_distribution<double> step_len(0.1, 1.0);
+  DrawnWindow w;
+  w.truth_m.resize(3, num_epochs);
+  w.truth_m.col(0) = Eigen::Vector3d(1000.0 + cube(rng), cube(rng), cube(rng));
+  for (int i = 1; i < num_epochs; ++i) {
+    const Eigen::Vector3d dir = Eigen::Vector3d(n01(rng), n01(rng), n01(rng)).normalized();
+    w.truth_m.col(i) = w.truth_m.col(i - 1) + step_len(rng) * dir;
+  }
+  const Eigen::Matrix3d prior_cov = kPriorSigma_m.cwiseAbs2().asDiagonal();
+  for (int i = 0; i < num_epochs; ++i) {
+    const Eigen::Vector3d q = w.truth_m.col(i);
+    RefinementEpoch e;
+    e.filter_belief.cov_m2 = prior_cov;
+    e.filter_belief.mean_m =
+        q + noise_scale * kPriorSigma_m.cwiseProduct(Eigen::Vector3d(n01(rng), n01(rng), n01(rng)));
+    if (i > 0) {
+      const Eigen::Vector3d d = q - w.truth_m.col(i - 1);
+      const double sigma = config.dr_sigma_floor_m + config.dr_sigma_per_m * d.norm();
+      e.displacement_m =
+          d + noise_scale * sigma * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
+    }
+    localization::BeaconMeasurement z;
+    z.range_m = q.norm() + noise_scale * config.beacon_sigma_range_m * n01(rng);
+    z.azimuth_rad = std::atan2(q.y(), q.x()) + noise_scale * config.beacon_sigma_angle_rad * n01(rng);
+    z.elevation_rad = std::atan2(q.z(), q.head<2>().norm()) +
+                      noise_scale * config.beacon_sigma_angle_rad * n01(rng);
+    e.beacon = z;
+    e.csi.push_back(simulate_csi(model, q, noise_scale * noise_scale * config.csi_noise_variance, rng));
+    w.epochs.push_back(e);
+  }
+  return w;
+}
+
+double nees(const RefinementResult& r, const Eigen::Vector3d& truth_m) {
+  const Eigen::Vector3d e = r.belief.mean_m - truth_m;
+  return e.dot(r.belief.cov_m2.ldlt().solve(e));
+}
+
+double lateral_sq(const Eigen::Vector3d& estimate_m, const Eigen::Vector3d& truth_m) {
+  return (estimate_m - truth_m).tail<2>().squaredNorm();
+}
+
+TEST(RefinementConfig, BadField_ThrowsNamingFieldAndValue) {
+  RefinementConfig c;
+  c.dr_sigma_floor_m = -0.5;
+  try {
+    validate(c);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("dr_sigma_floor_m = -0.5"), std::string::npos) << e.what();
+  }
+  RefinementConfig w;
+  w.window_epochs = 0;
+  EXPECT_THROW(validate(w), std::invalid_argument);
+  RefinementConfig v;
+  v.csi_noise_variance = std::nan("");
+  EXPECT_THROW(validate(v), std::invalid_argument);
+  EXPECT_NO_THROW(validate(RefinementConfig{}));
+}
+
+TEST(RefineWindow, ExactMeasurements_RecoverEveryPosition) {
+  const placement::ChannelModel model(placement::Scenario{});
+  const RefinementConfig config;
+  std::mt19937_64 rng(31);
+  const DrawnWindow w = draw_window(model, config, config.window_epochs, rng, /*noise_scale=*/0.0);
+  // Start the solver away from the truth: the prior mean is off by 10 cm laterally.
+  std::vector<RefinementEpoch> epochs = w.epochs;
+  epochs.front().filter_belief.mean_m += Eigen::Vector3d(0.0, 0.1, -0.1);
+  const RefinementResult r = refine_window(model, config, epochs);
+  EXPECT_EQ(r.covariance_source, CovarianceSource::kCeres);
+  EXPECT_EQ(r.num_epochs, config.window_epochs);
+  EXPECT_EQ(r.num_beacons, config.window_epochs - 1);
+  EXPECT_EQ(r.num_csi, config.window_epochs);
+  // The perturbed prior is the only inconsistent term; CSI and beacons pull the lateral back.
+  EXPECT_LT((r.belief.mean_m - w.truth_m.col(config.window_epochs - 1)).tail<2>().norm(), 0.03);
+}
+
+TEST(RefineWindow, MissingDisplacement_Throws) {
+  const placement::ChannelModel model(placement::Scenario{});
+  const RefinementConfig config;
+  std::mt19937_64 rng(32);
+  DrawnWindow w = draw_window(model, config, 3, rng);
+  w.epochs[2].displacement_m.reset();
+  EXPECT_THROW(refine_window(model, config, w.epochs), std::invalid_argument);
+  EXPECT_THROW(refine_window(model, config, {}), std::invalid_argument);
+}
+
+TEST(RefineWindow, LostFilterWithoutBeaconOrCsi_FallsBackToDeadReckoningCovariance) {
+  // GIVEN: a lost filter (prior variance 1e16 m^2) and neither beacon nor CSI: only dead
+  // reckoning, which observes no absolute position.
+  const placement::ChannelModel model(placement::Scenario{});
+  RefinementConfig config;
+  config.use_beacons = false;
+  config.use_csi = false;
+  std::mt19937_64 rng(33);
+  DrawnWindow w = draw_window(model, config, config.window_epochs, rng);
+  w.epochs.front().filter_belief.cov_m2 = 1e16 * Eigen::Matrix3d::Identity();
+  // WHEN
+  const RefinementResult r = refine_window(model, config, w.epochs);
+  // THEN: the covariance is the prior carried by dead reckoning, flagged and degraded.
+  EXPECT_EQ(r.covariance_source, CovarianceSource::kDeadReckoning);
+  EXPECT_TRUE(r.belief.degraded);
+  Eigen::Matrix3d expected = w.epochs.front().filter_belief.cov_m2;
+  for (int i = 1; i < config.window_epochs; ++i) {
+    const double s = config.dr_sigma_floor_m + config.dr_sigma_per_m * w.epochs[i].displacement_m->norm();
+    expected += s * s * Eigen::Matrix3d::Identity();
+  }
+  EXPECT_TRUE(r.belief.cov_m2.isApprox(expected, 1e-12));
+}
+
+TEST(RefineWindow, LostFilterWithCsiOnly_ObservesLateralButHardlyDepth) {
+  // GIVEN: the same lost filter, no beacon, but CSI at every epoch.
+  const placement::ChannelModel model(placement::Scenario{});
+  RefinementConfig config;
+  config.use_beacons = false;
+  std::mt19937_64 rng(36);
+  DrawnWindow w = draw_window(model, config, config.window_epochs, rng);
+  w.epochs.front().filter_belief.cov_m2 = 1e16 * Eigen::Matrix3d::Identity();
+  // Start the solver near the truth: without a prior nothing else anchors the solution.
+  w.epochs.front().filter_belief.mean_m = w.truth_m.col(0) + Eigen::Vector3d(0.5, 0.1, -0.1);
+  const RefinementResult r = refine_window(model, config, w.epochs);
+  // THEN: a Ceres covariance (the spherical wavefront leaves range weakly observable): tight
+  // across the line of sight (CSI measures the direction), tens of metres along it.
+  ASSERT_EQ(r.covariance_source, CovarianceSource::kCeres);
+  const Eigen::Vector3d u = r.belief.mean_m.normalized();
+  const Eigen::Vector3d e1 = u.cross(Eigen::Vector3d::UnitZ()).normalized();
+  const Eigen::Vector3d e2 = u.cross(e1);
+  EXPECT_LT(std::sqrt(e1.dot(r.belief.cov_m2 * e1)), 0.15);
+  EXPECT_LT(std::sqrt(e2.dot(r.belief.cov_m2 * e2)), 0.15);
+  EXPECT_GT(std::sqrt(u.dot(r.belief.cov_m2 * u)), 10.0);
+  const Eigen::Vector3d error = r.belief.mean_m - w.truth_m.col(config.window_epochs - 1);
+  EXPECT_LT(std::hypot(e1.dot(error), e2.dot(error)), 0.5);
+}
+
+TEST(SlidingWindowRefiner, KeepsLastWEpochs_AndRestartsAfterGap) {
+  const placement::Scenario scenario;
+  const placement::ChannelModel model(scenario);
+  RefinementConfig config;
+  config.window_epochs = 3;
+  SlidingWindowRefiner refiner(scenario, config);
+  EXPECT_THROW(refiner.refine(), std::logic_error);
+  std::mt19937_64 rng(34);
+  const DrawnWindow w = draw_window(model, config, 6, rng);
+  for (const RefinementEpoch& e : w.epochs) refiner.add_epoch(e);
+  EXPECT_EQ(refiner.size(), 3);
+  const RefinementResult r = refiner.refine();
+  EXPECT_EQ(r.num_epochs, 3);
+  // Same answer as the last three epochs solved directly.
+  const std::vector<RefinementEpoch> last3(w.epochs.end() - 3, w.epochs.end());
+  EXPECT_TRUE(r.belief.mean_m.isApprox(refine_window(model, config, last3).belief.mean_m, 1e-12));
+  RefinementEpoch gap = w.epochs.back();
+  gap.displacement_m.reset();
+  refiner.add_epoch(gap);
+  EXPECT_EQ(refiner.size(), 1);
+}
+
+// Monte Carlo over seeded windows: the newest position's lateral error of
+//   - the prior carried forward by dead reckoning (what a filter that never saw the window's
+//     beacons would say),
+//   - the refinement without CSI (prior + beacons + dead reckoning: the filter's information),
+//   - the refinement with CSI,
+// and the NEES of both refinements.
+struct MonteCarlo {
+  double rmse_dr_m = 0.0, rmse_no_csi_m = 0.0, rmse_csi_m = 0.0;
+  double nees_no_csi = 0.0, nees_csi = 0.0;
+  double us_per_call_csi = 0.0;
+  int fallbacks = 0;
+};
+
+MonteCarlo run_monte_carlo(std::uint64_t seed) {
+  const placement::Scenario scenario;
+  const placement::ChannelModel model(scenario);
+  RefinementConfig with_csi;
+  with_csi.csi_noise_variance = scenario.noise_variance();
+  RefinementConfig without_csi = with_csi;
+  without_csi.use_csi = false;
+  std::mt19937_64 rng(seed);
+  MonteCarlo mc;
+  double seconds_csi = 0.0;
+  for (int run = 0; run < kMonteCarloRuns; ++run) {
+    const DrawnWindow w = draw_window(model, with_csi, with_csi.window_epochs, rng);
+    const Eigen::Vector3d truth = w.truth_m.col(with_csi.window_epochs - 1);
+    Eigen::Vector3d dr = w.epochs.front().filter_belief.mean_m;
+    for (int i = 1; i < with_csi.window_epochs; ++i) dr += *w.epochs[i].displacement_m;
+    const auto t0 = std::chrono::steady_clock::now();
+    const RefinementResult r_csi = refine_window(model, with_csi, w.epochs);
+    seconds_csi += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const RefinementResult r_no = refine_window(model, without_csi, w.epochs);
+    mc.fallbacks += (r_csi.covariance_source != CovarianceSource::kCeres) +
+                    (r_no.covariance_source != CovarianceSource::kCeres);
+    mc.rmse_dr_m += lateral_sq(dr, truth);
+    mc.rmse_no_csi_m += lateral_sq(r_no.belief.mean_m, truth);
+    mc.rmse_csi_m += lateral_sq(r_csi.belief.mean_m, truth);
+    mc.nees_no_csi += nees(r_no, truth);
+    mc.nees_csi += nees(r_csi, truth);
+  }
+  // Lateral RMSE per axis (y and z pooled).
+  const double n = kMonteCarloRuns;
+  mc.rmse_dr_m = std::sqrt(mc.rmse_dr_m / (2.0 * n));
+  mc.rmse_no_csi_m = std::sqrt(mc.rmse_no_csi_m / (2.0 * n));
+  mc.rmse_csi_m = std::sqrt(mc.rmse_csi_m / (2.0 * n));
+  mc.nees_no_csi /= n;
+  mc.nees_csi /= n;
+  mc.us_per_call_csi = 1e6 * seconds_csi / n;
+  return mc;
+}
+
+TEST(RefineWindow, SeededScenario_CsiReducesLateralRmseAndStaysConsistent) {
+  // GIVEN: 1 km, 60 GHz, 4x4 BS at 0.25 m, SNR 10 dB, W = 5, prior 0.15 m lateral.
+  const MonteCarlo mc = run_monte_carlo(35);
+  std::cout << "lateral RMSE per axis [m]: dead reckoning " << mc.rmse_dr_m << ", no CSI "
+            << mc.rmse_no_csi_m << ", with CSI " << mc.rmse_csi_m << "\naverage NEES (3 dof): no CSI "
+            << mc.nees_no_csi << ", with CSI " << mc.nees_csi << " (95% band [" << kNeesLow << ", "
+            << kNeesHigh << "])\nrefinement with CSI: " << mc.us_per_call_csi << " us per call\n";
+  // THEN: CSI beats both the prior carried forward and the beacon + DR refinement, clearly.
+  EXPECT_EQ(mc.fallbacks, 0);
+  EXPECT_LT(mc.rmse_csi_m, 0.85 * mc.rmse_no_csi_m);
+  EXPECT_LT(mc.rmse_csi_m, 0.5 * mc.rmse_dr_m);
+  // AND: both covariances are consistent.
+  EXPECT_GT(mc.nees_csi, kNeesLow);
+  EXPECT_LT(mc.nees_csi, kNeesHigh);
+  EXPECT_GT(mc.nees_no_csi, kNeesLow);
+  EXPECT_LT(mc.nees_no_csi, kNeesHigh);
+}
+
+}  // namespace
+}  // namespace losmimo::fusion
