@@ -8,7 +8,7 @@
 // Lattice variant: orthogonality survives (in the paraxial approximation) moving a UAV along
 // the link (any depth x) and shifting it laterally by whole periods lambda x / d_t, so a slot
 // is a lattice of points; each UAV's cost to a slot is the distance to its nearest point at
-// the UAV's own depth, which travels far less.
+// the UAV's own depth, which travels far less (ICN ~0.99 instead of 1: the approximation).
 // Every iteration each UAV re-estimates its position and commands the move to its target
 // (target - believed position), so localization and actuation errors are retried away.
 // Needs num_uavs == bs_rows * bs_cols.
