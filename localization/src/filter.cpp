@@ -1,6 +1,7 @@
 #include "losmimo/localization/filter.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -77,6 +78,10 @@ void validate(const FilterConfig& config) {
   if (!std::isfinite(config.ess_threshold) || config.ess_threshold <= 0.0 ||
       config.ess_threshold > 1.0) {
     fail("ess_threshold", config.ess_threshold, "in (0, 1]");
+  }
+  if (!std::isfinite(config.regularization_bandwidth) || config.regularization_bandwidth < 0.0 ||
+      config.regularization_bandwidth >= 1.0) {
+    fail("regularization_bandwidth", config.regularization_bandwidth, "in [0, 1)");
   }
 }
 

@@ -155,12 +155,28 @@ class ParticlePositionFilter::Mrpt final
   }
 
   void resample() {
+    Eigen::Vector3d mean_m;
+    Eigen::Matrix3d cov_m2;
+    moments(m_particles, mean_m, cov_m2);
     std::vector<double> log_w;
     log_w.reserve(m_particles.size());
     for (const auto& p : m_particles) log_w.push_back(p.log_w);
     performSubstitution(resampling_indices(config_.resampling, log_w, rng_));
     for (auto& p : m_particles) p.log_w = 0.0;
     ++counters_.resamplings;
+    const double h = config_.regularization_bandwidth;
+    if (h <= 0.0) return;
+    // Liu-West kernel jitter: shrink towards the mean by a = sqrt(1 - h^2) and add h L n, so
+    // the cloud keeps its mean and covariance but duplicates become distinct particles.
+    make_spd(cov_m2, config_.min_variance_m2, config_.missing_displacement_sigma_m *
+                                                  config_.missing_displacement_sigma_m);
+    const Eigen::Matrix3d L = cov_m2.llt().matrixL();
+    const double a = std::sqrt(1.0 - h * h);
+    for (auto& p : m_particles) {
+      Eigen::Vector3d n;
+      for (int k = 0; k < 3; ++k) n(k) = rng_.drawGaussian1D_normalized();
+      p.d = a * p.d + (1.0 - a) * mean_m + h * (L * n);
+    }
   }
 
   void update_belief() {

@@ -72,6 +72,8 @@ struct FilterConfig {
   int num_particles = 1000;
   ResamplingMethod resampling = ResamplingMethod::kSystematic;
   double ess_threshold = 0.5;  // resample when ESS / N < this, in (0, 1]
+  // Kernel bandwidth h of the jitter after each resampling (particle_filter.h), in [0, 1).
+  double regularization_bandwidth = 0.2;
 };
 
 // Throws std::invalid_argument naming the first bad field and its value.
