@@ -2,12 +2,16 @@
 
 #include <ceres/ceres.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
 
 #include "losmimo/placement/assignment.h"
+#include "losmimo/placement/gd.h"
 #include "losmimo/placement/metrics.h"
 #include "losmimo/placement/run.h"
 #include "losmimo/placement/swarm.h"
@@ -50,6 +54,43 @@ class PenalizedTravel final : public ceres::FirstOrderFunction {
   const double mu_;
 };
 
+// B_t over the stacked positions; an infeasible point is reported as a failed evaluation, which
+// makes Ceres' line search contract the step (the iterates stay strictly feasible).
+class BarrierTravel final : public ceres::FirstOrderFunction {
+ public:
+  BarrierTravel(const placement::ChannelModel& model, const Eigen::Matrix3Xd& start_m, double alpha,
+                double t)
+      : model_(model), start_m_(start_m), alpha_(alpha), t_(t) {}
+
+  bool Evaluate(const double* parameters, double* cost, double* gradient) const override {
+    const Eigen::Map<const Eigen::Matrix3Xd> q(parameters, 3, start_m_.cols());
+    Eigen::Matrix3Xd g;
+    *cost = barrier_travel_cost(model_, start_m_, alpha_, t_, q, gradient ? &g : nullptr);
+    if (!std::isfinite(*cost)) return false;
+    if (gradient != nullptr) Eigen::Map<Eigen::Matrix3Xd>(gradient, 3, start_m_.cols()) = g;
+    return true;
+  }
+  int NumParameters() const override { return static_cast<int>(3 * start_m_.cols()); }
+
+ private:
+  const placement::ChannelModel& model_;
+  const Eigen::Matrix3Xd start_m_;
+  const double alpha_;
+  const double t_;
+};
+
+ceres::GradientProblemSolver::Options lbfgs_options(int max_iterations) {
+  ceres::GradientProblemSolver::Options options;
+  options.line_search_direction_type = ceres::LBFGS;
+  options.max_num_iterations = max_iterations;
+  options.function_tolerance = 1e-10;
+  options.gradient_tolerance = 1e-10;
+  options.parameter_tolerance = 1e-10;
+  options.logging_type = ceres::SILENT;
+  options.minimizer_progress_to_stdout = false;
+  return options;
+}
+
 struct Solver {
   const placement::ChannelModel& model;
   const Eigen::Matrix3Xd& start_m;
@@ -59,16 +100,17 @@ struct Solver {
   Eigen::Matrix3Xd minimise(const Eigen::Matrix3Xd& initial_m, double mu) {
     Eigen::Matrix3Xd q = initial_m;
     ceres::GradientProblem problem(new PenalizedTravel(model, start_m, mu));
-    ceres::GradientProblemSolver::Options options;
-    options.line_search_direction_type = ceres::LBFGS;
-    options.max_num_iterations = config.max_lbfgs_iterations;
-    options.function_tolerance = 1e-10;
-    options.gradient_tolerance = 1e-10;
-    options.parameter_tolerance = 1e-10;
-    options.logging_type = ceres::SILENT;
-    options.minimizer_progress_to_stdout = false;
     ceres::GradientProblemSolver::Summary summary;
-    ceres::Solve(options, problem, q.data(), &summary);
+    ceres::Solve(lbfgs_options(config.max_lbfgs_iterations), problem, q.data(), &summary);
+    ++num_solves;
+    return q;
+  }
+
+  Eigen::Matrix3Xd minimise_barrier(const Eigen::Matrix3Xd& initial_m, double t) {
+    Eigen::Matrix3Xd q = initial_m;
+    ceres::GradientProblem problem(new BarrierTravel(model, start_m, config.target_icn, t));
+    ceres::GradientProblemSolver::Summary summary;
+    ceres::Solve(lbfgs_options(config.max_lbfgs_iterations), problem, q.data(), &summary);
     ++num_solves;
     return q;
   }
@@ -84,7 +126,29 @@ struct Candidate {
   bool feasible = false;
   Eigen::Matrix3Xd q_m;
   double mu = 0.0;
+  bool polished = false;
 };
+
+// Barrier stage (header): keeps only iterates that the SVD confirms feasible and that travel less.
+void polish(Solver& solver, Candidate& candidate) {
+  const CentralizedConfig& c = solver.config;
+  if (!candidate.feasible) return;
+  const double alpha = c.target_icn;
+  if (!std::isfinite(barrier_travel_cost(solver.model, solver.start_m, alpha, c.barrier_t_initial,
+                                         candidate.q_m, nullptr))) {
+    return;  // on the boundary itself (ICN == alpha to rounding): nothing to polish from
+  }
+  Eigen::Matrix3Xd q = candidate.q_m;
+  for (double t = c.barrier_t_initial; t >= c.barrier_t_final * (1.0 - 1e-9);
+       t *= c.barrier_t_factor) {
+    const Eigen::Matrix3Xd q_next = solver.minimise_barrier(q, t);
+    if (solver.feasible(q_next)) q = q_next;
+  }
+  if (solver.travel2(q) < solver.travel2(candidate.q_m)) {
+    candidate.q_m = q;
+    candidate.polished = true;
+  }
+}
 
 // Continuation from initial_m: grow mu from mu_start until feasible, then lower it by
 // log-bisection, keeping the feasible solution of least squared travel.
@@ -135,6 +199,12 @@ void validate(const CentralizedConfig& c) {
     bad_field("reduce_steps", c.reduce_steps, "must be in [0, 100]");
   if (c.max_lbfgs_iterations < 1 || c.max_lbfgs_iterations > 100000)
     bad_field("max_lbfgs_iterations", c.max_lbfgs_iterations, "must be in [1, 100000]");
+  if (!(c.barrier_t_initial > 0.0) || !std::isfinite(c.barrier_t_initial))
+    bad_field("barrier_t_initial", c.barrier_t_initial, "must be a finite positive number");
+  if (!(c.barrier_t_final > 0.0) || !(c.barrier_t_final <= c.barrier_t_initial))
+    bad_field("barrier_t_final", c.barrier_t_final, "must be in (0, barrier_t_initial]");
+  if (!(c.barrier_t_factor > 0.0) || !(c.barrier_t_factor < 1.0))
+    bad_field("barrier_t_factor", c.barrier_t_factor, "must be in (0, 1)");
 }
 
 TravelStats travel_stats(const Eigen::Matrix3Xd& from_m, const Eigen::Matrix3Xd& to_m) {
@@ -166,6 +236,41 @@ double penalized_travel_cost(const placement::ChannelModel& model, const Eigen::
   return cost;
 }
 
+double barrier_travel_cost(const placement::ChannelModel& model, const Eigen::Matrix3Xd& start_m,
+                           double alpha, double t, const Eigen::Matrix3Xd& q_m,
+                           Eigen::Matrix3Xd* gradient) {
+  const Eigen::MatrixXcd H = model.matrix(q_m);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> eig(H.adjoint() * H);
+  const Eigen::Index nt = H.cols();
+  if (eig.info() != Eigen::Success || H.rows() < nt) return std::numeric_limits<double>::infinity();
+  const double lambda_min = eig.eigenvalues()(0);
+  const double lambda_max = eig.eigenvalues()(nt - 1);
+  const double g = lambda_min - alpha * alpha * lambda_max;
+  if (!(g > 0.0)) return std::numeric_limits<double>::infinity();
+  const double cost = (q_m - start_m).squaredNorm() - t * std::log(g);
+  if (gradient != nullptr) {
+    const Eigen::VectorXcd v_min = eig.eigenvectors().col(0);
+    const Eigen::VectorXcd v_max = eig.eigenvectors().col(nt - 1);
+    const Eigen::VectorXcd a_min = H * v_min;  // x_m^T v for every UAV m
+    const Eigen::VectorXcd a_max = H * v_max;
+    gradient->resize(3, q_m.cols());
+    Eigen::VectorXcd s;
+    Eigen::Matrix3Xd U;
+    for (Eigen::Index m = 0; m < q_m.cols(); ++m) {
+      model.row_derivative_terms(q_m.col(m), s, U);
+      Eigen::Vector3d grad_g = Eigen::Vector3d::Zero();
+      for (Eigen::Index k = 0; k < nt; ++k) {
+        const std::complex<double> xs = H(m, k) * s(k);
+        const double d_min = 2.0 * (std::conj(a_min(m)) * v_min(k) * xs).real();
+        const double d_max = 2.0 * (std::conj(a_max(m)) * v_max(k) * xs).real();
+        grad_g += (d_min - alpha * alpha * d_max) * U.col(k);
+      }
+      gradient->col(m) = 2.0 * (q_m.col(m) - start_m.col(m)) - (t / g) * grad_g;
+    }
+  }
+  return cost;
+}
+
 std::string to_string(CentralizedStatus status) {
   return status == CentralizedStatus::kFeasible ? "feasible" : "infeasible";
 }
@@ -175,6 +280,7 @@ std::string to_string(CentralizedStart start) {
     case CentralizedStart::kStartPositions: return "start_positions";
     case CentralizedStart::kLatticeUra: return "lattice_ura";
     case CentralizedStart::kRigidUra: return "rigid_ura";
+    case CentralizedStart::kGd: return "gd";
     case CentralizedStart::kNone: break;
   }
   return "none";
@@ -200,6 +306,18 @@ CentralizedResult solve_centralized(const placement::Scenario& scenario,
   std::vector<Entry> entries;
   entries.push_back({continuation(solver, start_m, config.mu_initial),
                      CentralizedStart::kStartPositions, false});
+
+  if (config.start_from_gd) {
+    // Noise-free GD until alpha; its end point is feasible as it stands (J_mu is not involved).
+    placement::Swarm swarm(model, start_m, placement::ErrorModel{}, /*seed=*/0);
+    placement::GradientDescentPlanner gd(scenario, placement::GdOptions{});
+    placement::RunOptions run;
+    run.target_icn = config.target_icn;
+    run.max_iterations = config.gd_max_iterations;
+    const placement::RunResult gd_run = placement::run_placement(gd, swarm, run);
+    entries.push_back({{solver.feasible(gd_run.final_m), gd_run.final_m, 0.0},
+                       CentralizedStart::kGd, false});
+  }
 
   const bool ura_possible = scenario.num_uavs == scenario.num_bs_antennas();
   if (ura_possible) {
@@ -239,6 +357,10 @@ CentralizedResult solve_centralized(const placement::Scenario& scenario,
                        CentralizedStart::kRigidUra, true});
   }
 
+  if (config.barrier_polish) {
+    for (Entry& e : entries) polish(solver, e.candidate);
+  }
+
   double best_travel2 = std::numeric_limits<double>::infinity();
   for (const Entry& e : entries) {
     if (!e.candidate.feasible) continue;
@@ -247,7 +369,8 @@ CentralizedResult solve_centralized(const placement::Scenario& scenario,
       best_travel2 = t2;
       result.status = CentralizedStatus::kFeasible;
       result.best_start = e.start;
-      result.best_is_raw_ura = e.raw;
+      result.best_is_raw_ura = e.raw && !e.candidate.polished;
+      result.polished = e.candidate.polished;
       result.positions_m = e.candidate.q_m;
       result.mu = e.candidate.mu;
     }

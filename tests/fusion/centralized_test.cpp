@@ -40,5 +40,55 @@ TEST(CentralizedConfig, BadField_ThrowsNamingFieldAndValue) {
   EXPECT_NO_THROW(validate(CentralizedConfig{}));
 }
 
+// The rigid URA's eq. 4 travel, computed here from placement's slots and assignment only.
+double rigid_ura_squared_travel(const placement::Scenario& scenario, const Eigen::Matrix3Xd& start) {
+  const Eigen::Matrix3Xd slots = placement::optimal_ura_positions_m(scenario);
+  const int n = static_cast<int>(start.cols());
+  Eigen::MatrixXd cost(n, n);
+  for (int m = 0; m < n; ++m) {
+    for (int s = 0; s < n; ++s) cost(m, s) = (slots.col(s) - start.col(m)).squaredNorm();
+  }
+  const std::vector<int> slot_of = placement::min_cost_assignment(cost);
+  double total = 0.0;
+  for (int m = 0; m < n; ++m) total += cost(m, slot_of[m]);
+  return total;
+}
+
+constexpr int kNumStarts = 4;
+
+TEST(SolveCentralized, SeededStarts_MeetIcnAndTravelLessThanRigidUra) {
+  const placement::Scenario scenario;  // paper defaults: 16 UAVs, 4x4 BS, 1 km, 60 GHz
+  const placement::ChannelModel model(scenario);
+  const CentralizedConfig config;
+  std::mt19937_64 rng(41);
+  for (int trial = 0; trial < kNumStarts; ++trial) {
+    const Eigen::Matrix3Xd start = placement::random_start_positions_m(scenario, rng);
+    const CentralizedResult r = solve_centralized(scenario, start, config);
+    std::cout << "start " << trial << ": " << to_string(r.status) << " from "
+              << to_string(r.best_start) << (r.best_is_raw_ura ? " (raw)" : "") << ", ICN "
+              << r.icn << ", mean travel " << r.travel.mean_m << " m (squared mean "
+              << r.travel.mean_squared_m2 << " m^2), polished " << r.polished << ", solves " << r.num_solves
+              << "\n  lattice URA: ICN " << r.lattice_ura_icn << ", mean travel "
+              << r.lattice_ura_travel.mean_m << " m (squared " << r.lattice_ura_travel.mean_squared_m2
+              << ")\n  rigid URA:   ICN " << r.rigid_ura_icn << ", mean travel "
+              << r.rigid_ura_travel.mean_m << " m (squared " << r.rigid_ura_travel.mean_squared_m2
+              << ")\n";
+    ASSERT_EQ(r.status, CentralizedStatus::kFeasible);
+    // ICN recomputed from the positions by placement's SVD, independent of the solver.
+    EXPECT_GE(placement::inverse_condition_number(model.matrix(r.positions_m)), config.target_icn);
+    const double travel2 = (r.positions_m - start).squaredNorm();
+    EXPECT_LE(travel2, rigid_ura_squared_travel(scenario, start));
+    // And no more than the lattice URA, computed here by placement's own planner.
+    placement::Swarm swarm(model, start, placement::ErrorModel{}, 1);
+    placement::UraPlanner lattice(scenario, placement::UraVariant::kLattice);
+    lattice.start(swarm);
+    if (placement::inverse_condition_number(model.matrix(lattice.targets_m())) >= config.target_icn) {
+      EXPECT_LE(travel2, (lattice.targets_m() - start).squaredNorm());
+    }
+    // The reported travel is that of the reported positions.
+    EXPECT_NEAR(r.travel.total_squared_m2, travel2, 1e-9 * travel2);
+  }
+}
+
 }  // namespace
 }  // namespace losmimo::fusion

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/SVD>
+
 #include <cmath>
 #include <complex>
 #include <memory>
@@ -13,6 +15,7 @@
 #include "losmimo/fusion/centralized.h"
 #include "losmimo/fusion/csi.h"
 #include "losmimo/placement/metrics.h"
+#include "losmimo/placement/ura.h"
 #include "fusion/gradient_probe.h"
 
 namespace losmimo::fusion {
@@ -179,6 +182,53 @@ TEST(PenalizedTravelCost, ValueAndGradient_MatchIndependentComputation) {
     EXPECT_LT((grad - numeric).norm(), 1e-5 * numeric.norm())
         << "analytic\n" << grad << "\nnumeric\n" << numeric;
   }
+}
+
+TEST(BarrierTravelCost, ValueAndGradient_MatchIndependentComputation) {
+  // Near a feasible placement (the rigid URA, ICN ~1, moved a little): B_t is finite, its value
+  // matches the ICN from placement's SVD, and its gradient matches central differences.
+  placement::Scenario scenario;
+  const placement::ChannelModel model(scenario);
+  std::mt19937_64 rng(28);
+  std::normal_distribution<double> n01;
+  constexpr double kAlpha = 0.9;
+  constexpr double kT_m2 = 0.5;
+  constexpr double kStep_m = 1e-6;
+  const Eigen::Matrix3Xd slots = placement::optimal_ura_positions_m(scenario);
+  for (int trial = 0; trial < 3; ++trial) {
+    Eigen::Matrix3Xd q = slots;
+    for (Eigen::Index i = 0; i < q.size(); ++i) q(i) += 0.05 * n01(rng);
+    const Eigen::Matrix3Xd start = placement::random_start_positions_m(scenario, rng);
+    Eigen::Matrix3Xd grad;
+    const double cost = barrier_travel_cost(model, start, kAlpha, kT_m2, q, &grad);
+    ASSERT_TRUE(std::isfinite(cost));
+    // lambda_min - alpha^2 lambda_max = lambda_max (ICN^2 - alpha^2), lambda_max = sigma_max^2.
+    const Eigen::MatrixXcd H = model.matrix(q);
+    const double icn = placement::inverse_condition_number(H);
+    const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXcd>(H).singularValues();
+    const double g = sv(0) * sv(0) * (icn * icn - kAlpha * kAlpha);
+    EXPECT_NEAR(cost, (q - start).squaredNorm() - kT_m2 * std::log(g), 1e-8 * std::abs(cost));
+    Eigen::Matrix3Xd numeric(3, q.cols());
+    for (Eigen::Index i = 0; i < q.size(); ++i) {
+      Eigen::Matrix3Xd plus = q, minus = q;
+      plus(i) += kStep_m;
+      minus(i) -= kStep_m;
+      numeric(i) = (barrier_travel_cost(model, start, kAlpha, kT_m2, plus, nullptr) -
+                    barrier_travel_cost(model, start, kAlpha, kT_m2, minus, nullptr)) /
+                   (2.0 * kStep_m);
+    }
+    EXPECT_LT((grad - numeric).norm(), 1e-5 * numeric.norm())
+        << "analytic\n" << grad << "\nnumeric\n" << numeric;
+  }
+}
+
+TEST(BarrierTravelCost, InfeasiblePlacement_IsInfinite) {
+  placement::Scenario scenario;
+  const placement::ChannelModel model(scenario);
+  std::mt19937_64 rng(29);
+  const Eigen::Matrix3Xd q = placement::random_start_positions_m(scenario, rng);  // ICN ~0.1
+  ASSERT_LT(placement::inverse_condition_number(model.matrix(q)), 0.5);
+  EXPECT_TRUE(std::isinf(barrier_travel_cost(model, q, 0.5, 1.0, q, nullptr)));
 }
 
 }  // namespace
