@@ -20,20 +20,26 @@ namespace {
 using mrpt::bayes::particle_storage_mode;
 using ParticleData = mrpt::bayes::CParticleFilterData<Eigen::Vector3d, particle_storage_mode::VALUE>;
 
-// Weighted mean and covariance of the particle cloud (normalised linear weights).
+// Weighted mean and covariance of the particle cloud (normalised linear weights), one pass
+// with iterators (deque indexing is slow), accumulating about the first particle for accuracy.
 void moments(const ParticleData::CParticleList& particles, Eigen::Vector3d& mean_m,
              Eigen::Matrix3d& cov_m2) {
   std::vector<double> log_w;
   log_w.reserve(particles.size());
   for (const auto& p : particles) log_w.push_back(p.log_w);
   const std::vector<double> w = normalized_weights(log_w);
-  mean_m.setZero();
-  for (std::size_t i = 0; i < particles.size(); ++i) mean_m += w[i] * particles[i].d;
-  cov_m2.setZero();
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    const Eigen::Vector3d e = particles[i].d - mean_m;
-    cov_m2 += w[i] * e * e.transpose();
+  const Eigen::Vector3d origin_m = particles.front().d;
+  Eigen::Vector3d first = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+  auto wi = w.begin();
+  for (const auto& p : particles) {
+    const Eigen::Vector3d e = p.d - origin_m;
+    first += *wi * e;
+    second.noalias() += *wi * e * e.transpose();
+    ++wi;
   }
+  mean_m = origin_m + first;
+  cov_m2 = second - first * first.transpose();
 }
 
 }  // namespace
