@@ -24,7 +24,7 @@ template <typename V>
 bool positive_finite(double v) { return v > 0.0 && std::isfinite(v); }
 
 double dr_sigma_m(const RefinementConfig& c, const Eigen::Vector3d& displacement_m) {
-  return c.dr_sigma_floor_m + c.dr_sigma_per_m * displacement_m.norm();
+  return c.dr_sigma_floor_m + c.dr_sigma_fraction * displacement_m.norm();
 }
 
 }  // namespace
@@ -38,8 +38,8 @@ void validate(const RefinementConfig& c) {
     bad_field("beacon_sigma_angle_rad", c.beacon_sigma_angle_rad, "must be a finite positive number");
   if (!positive_finite(c.dr_sigma_floor_m))
     bad_field("dr_sigma_floor_m", c.dr_sigma_floor_m, "must be a finite positive number");
-  if (!(c.dr_sigma_per_m >= 0.0) || !std::isfinite(c.dr_sigma_per_m))
-    bad_field("dr_sigma_per_m", c.dr_sigma_per_m, "must be a finite number >= 0");
+  if (!(c.dr_sigma_fraction >= 0.0) || !std::isfinite(c.dr_sigma_fraction))
+    bad_field("dr_sigma_fraction", c.dr_sigma_fraction, "must be a finite number >= 0");
   if (!positive_finite(c.csi_noise_variance))
     bad_field("csi_noise_variance", c.csi_noise_variance, "must be a finite positive number");
   if (c.max_iterations < 1 || c.max_iterations > 1000)
@@ -47,6 +47,18 @@ void validate(const RefinementConfig& c) {
   if (!(c.min_reciprocal_condition_number > 0.0) || !(c.min_reciprocal_condition_number < 1.0))
     bad_field("min_reciprocal_condition_number", c.min_reciprocal_condition_number,
               "must be in (0, 1)");
+}
+
+RefinementConfig refinement_config_from(const localization::NoiseModel& noise,
+                                        double csi_noise_variance) {
+  RefinementConfig c;
+  c.beacon_sigma_range_m = noise.sigma_range_m;
+  c.beacon_sigma_angle_rad = noise.sigma_angle_rad;
+  c.dr_sigma_floor_m = noise.dr_sigma_floor_m;
+  c.dr_sigma_fraction = noise.dr_sigma_fraction;
+  c.csi_noise_variance = csi_noise_variance;
+  validate(c);
+  return c;
 }
 
 std::string to_string(CovarianceSource source) {

@@ -17,11 +17,36 @@ namespace {
 
 // Prior of the oldest epoch: a filter that has fused the beacon for a while [m].
 const Eigen::Vector3d kPriorSigma_m(0.20, 0.15, 0.15);
-constexpr int kMonteCarloRuns = 200;
-// 95% two-sided chi-square band of the average NEES over kMonteCarloRuns runs, 3 dof:
-// chi2(3 * 200) quantiles 0.025 / 0.975 are 533.0 / 670.8, divided by 200.
-constexpr double kNeesLow = 533.0 / kMonteCarloRuns;
-constexpr double kNeesHigh = 670.8 / kMonteCarloRuns;
+constexpr int kMonteCarloRuns = 500;
+constexpr int kStateDim = 3;
+constexpr double kZ975 = 1.959963985;  // standard normal 0.975 quantile
+
+// Chi-square quantile with k dof at standard-normal quantile z (Wilson-Hilferty; relative error
+// < 1e-4 for k in the hundreds).
+double chi2_quantile(double k, double z) {
+  const double a = 2.0 / (9.0 * k);
+  return k * std::pow(1.0 - a + z * std::sqrt(a), 3);
+}
+// 95% two-sided band of the average NEES over kMonteCarloRuns runs.
+const double kNeesLow = chi2_quantile(kStateDim * kMonteCarloRuns, -kZ975) / kMonteCarloRuns;
+const double kNeesHigh = chi2_quantile(kStateDim * kMonteCarloRuns, kZ975) / kMonteCarloRuns;
+
+TEST(Chi2Quantile, MatchesTabulatedValues) {
+  // chi2 with 600 and 1500 dof at 0.025 / 0.975, by bisection on the series of the regularised
+  // incomplete gamma function: 534.019 / 669.769 and 1394.555 / 1609.233.
+  EXPECT_NEAR(chi2_quantile(600, -kZ975), 534.019, 0.05);
+  EXPECT_NEAR(chi2_quantile(600, kZ975), 669.769, 0.05);
+  EXPECT_NEAR(chi2_quantile(1500, -kZ975), 1394.555, 0.05);
+  EXPECT_NEAR(chi2_quantile(1500, kZ975), 1609.233, 0.05);
+}
+
+// The hardest case: beacon angle noise 1.8e-4 rad (0.18 m cross-range at 1 km, the
+// paper's largest sigma_loc); range and dead reckoning as localization's defaults.
+RefinementConfig largest_beacon_noise_config(const placement::Scenario& scenario) {
+  localization::NoiseModel noise;
+  noise.sigma_angle_rad = 1.8e-4;
+  return refinement_config_from(noise, scenario.noise_variance());
+}
 
 struct DrawnWindow {
   std::vector<RefinementEpoch> epochs;
@@ -51,7 +76,7 @@ DrawnWindow draw_window(const placement::ChannelModel& model, const RefinementCo
         q + noise_scale * kPriorSigma_m.cwiseProduct(Eigen::Vector3d(n01(rng), n01(rng), n01(rng)));
     if (i > 0) {
       const Eigen::Vector3d d = q - w.truth_m.col(i - 1);
-      const double sigma = config.dr_sigma_floor_m + config.dr_sigma_per_m * d.norm();
+      const double sigma = config.dr_sigma_floor_m + config.dr_sigma_fraction * d.norm();
       e.displacement_m =
           d + noise_scale * sigma * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
     }
@@ -138,7 +163,7 @@ TEST(RefineWindow, LostFilterWithoutBeaconOrCsi_FallsBackToDeadReckoningCovarian
   EXPECT_TRUE(r.belief.degraded);
   Eigen::Matrix3d expected = w.epochs.front().filter_belief.cov_m2;
   for (int i = 1; i < config.window_epochs; ++i) {
-    const double s = config.dr_sigma_floor_m + config.dr_sigma_per_m * w.epochs[i].displacement_m->norm();
+    const double s = config.dr_sigma_floor_m + config.dr_sigma_fraction * w.epochs[i].displacement_m->norm();
     expected += s * s * Eigen::Matrix3d::Identity();
   }
   EXPECT_TRUE(r.belief.cov_m2.isApprox(expected, 1e-12));
@@ -206,8 +231,7 @@ struct MonteCarlo {
 MonteCarlo run_monte_carlo(std::uint64_t seed) {
   const placement::Scenario scenario;
   const placement::ChannelModel model(scenario);
-  RefinementConfig with_csi;
-  with_csi.csi_noise_variance = scenario.noise_variance();
+  const RefinementConfig with_csi = largest_beacon_noise_config(scenario);
   RefinementConfig without_csi = with_csi;
   without_csi.use_csi = false;
   std::mt19937_64 rng(seed);
@@ -242,7 +266,8 @@ MonteCarlo run_monte_carlo(std::uint64_t seed) {
 }
 
 TEST(RefineWindow, SeededScenario_CsiReducesLateralRmseAndStaysConsistent) {
-  // GIVEN: 1 km, 60 GHz, 4x4 BS at 0.25 m, SNR 10 dB, W = 5, prior 0.15 m lateral.
+  // GIVEN: 1 km, 60 GHz, 4x4 BS at 0.25 m, SNR 10 dB, W = 5, prior 0.15 m lateral, beacon
+  // 0.18 m cross-range.
   const MonteCarlo mc = run_monte_carlo(35);
   std::cout << "lateral RMSE per axis [m]: dead reckoning " << mc.rmse_dr_m << ", no CSI "
             << mc.rmse_no_csi_m << ", with CSI " << mc.rmse_csi_m << "\naverage NEES (3 dof): no CSI "

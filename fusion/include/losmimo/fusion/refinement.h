@@ -8,7 +8,7 @@
 //             beacon and displacement up to epoch 0, so epoch 0's beacon is not used again;
 //   - beacon: range/azimuth/elevation of epochs 1..W-1 (sigma_range_m, sigma_angle_rad);
 //   - dead reckoning: q_i - q_{i-1} = d_i + N(0, sigma_i^2 I),
-//             sigma_i = dr_sigma_floor_m + dr_sigma_per_m * |d_i| (d_i as measured);
+//             sigma_i = dr_sigma_floor_m + dr_sigma_fraction * |d_i| (d_i as measured);
 //   - CSI:    every row measured at any epoch, one phase residual per BS antenna,
 //             sigma_phase = sqrt(csi_noise_variance / 2) (unit-modulus entries).
 // Only the filter's beliefs, not the refined ones, enter as priors, so nothing is counted twice
@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "losmimo/fusion/csi.h"
+#include "losmimo/localization/filter.h"
 #include "losmimo/localization/measurements.h"
 #include "losmimo/placement/channel.h"
 #include "losmimo/placement/scenario.h"
@@ -41,10 +42,11 @@ struct RefinementConfig {
   int window_epochs = 5;            // W, in [1, 64]
   bool use_csi = true;              // false: prior + beacons + dead reckoning only (comparison)
   bool use_beacons = true;
-  double beacon_sigma_range_m = 0.5;
-  double beacon_sigma_angle_rad = 1.8e-4;  // 0.18 m cross-range at 1 km
-  double dr_sigma_floor_m = 0.02;          // per axis, per displacement
-  double dr_sigma_per_m = 0.05;            // per axis, per metre of measured displacement
+  // Sensor sigmas: defaults equal localization::NoiseModel's (use refinement_config_from).
+  double beacon_sigma_range_m = 0.1;
+  double beacon_sigma_angle_rad = 1e-4;    // 0.1 m cross-range at 1 km
+  double dr_sigma_floor_m = 0.01;          // per axis, per displacement
+  double dr_sigma_fraction = 0.02;         // per axis, per metre of measured displacement
   double csi_noise_variance = 0.1;         // per entry, normalised: Scenario::noise_variance()
   int max_iterations = 20;                 // Levenberg-Marquardt iterations
   // DENSE_SVD rank test: sigma_min / sigma_max of the Jacobian below sqrt(this) is rank deficient.
@@ -53,6 +55,11 @@ struct RefinementConfig {
 
 // Throws std::invalid_argument naming the first bad field and its value.
 void validate(const RefinementConfig& config);
+
+// The filter's noise model and the scenario's CSI noise (Scenario::noise_variance()) as a
+// refinement config; the other fields keep their defaults.
+RefinementConfig refinement_config_from(const localization::NoiseModel& noise,
+                                        double csi_noise_variance);
 
 // What one UAV has at one epoch.
 struct RefinementEpoch {
