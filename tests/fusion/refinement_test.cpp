@@ -1,6 +1,8 @@
 // Sliding-window refinement (fusion/refinement.h) on simulated windows: seeded, never retried.
 #include "losmimo/fusion/refinement.h"
 
+#include "fusion/window_simulator.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
@@ -15,8 +17,9 @@
 namespace losmimo::fusion {
 namespace {
 
-// Prior of the oldest epoch: a filter that has fused the beacon for a while [m].
-const Eigen::Vector3d kPriorSigma_m(0.20, 0.15, 0.15);
+using test_support::draw_window;
+using test_support::DrawnWindow;
+using test_support::kPriorSigma_m;
 constexpr int kMonteCarloRuns = 500;
 constexpr int kStateDim = 3;
 constexpr double kZ975 = 1.959963985;  // standard normal 0.975 quantile
@@ -46,50 +49,6 @@ RefinementConfig largest_beacon_noise_config(const placement::Scenario& scenario
   localization::NoiseModel noise;
   noise.sigma_angle_rad = 1.8e-4;
   return refinement_config_from(noise, scenario.noise_variance());
-}
-
-struct DrawnWindow {
-  std::vector<RefinementEpoch> epochs;
-  Eigen::Matrix3Xd truth_m;
-};
-
-// A UAV flying placement-sized steps (0.1 - 1 m) near the start cube, with every sensor drawn
-// from the model the refinement assumes. noise_scale = 0 gives exact measurements and prior.
-DrawnWindow draw_window(const placement::ChannelModel& model, const RefinementConfig& config,
-                        int num_epochs, std::mt19937_64& rng, double noise_scale = 1.0) {
-  std::normal_distribution<double> n01;
-  std::uniform_real_distribution<double> cube(-25.0, 25.0);
-  std::uniform_real_distribution<double> step_len(0.1, 1.0);
-  DrawnWindow w;
-  w.truth_m.resize(3, num_epochs);
-  w.truth_m.col(0) = Eigen::Vector3d(1000.0 + cube(rng), cube(rng), cube(rng));
-  for (int i = 1; i < num_epochs; ++i) {
-    const Eigen::Vector3d dir = Eigen::Vector3d(n01(rng), n01(rng), n01(rng)).normalized();
-    w.truth_m.col(i) = w.truth_m.col(i - 1) + step_len(rng) * dir;
-  }
-  const Eigen::Matrix3d prior_cov = kPriorSigma_m.cwiseAbs2().asDiagonal();
-  for (int i = 0; i < num_epochs; ++i) {
-    const Eigen::Vector3d q = w.truth_m.col(i);
-    RefinementEpoch e;
-    e.filter_belief.cov_m2 = prior_cov;
-    e.filter_belief.mean_m =
-        q + noise_scale * kPriorSigma_m.cwiseProduct(Eigen::Vector3d(n01(rng), n01(rng), n01(rng)));
-    if (i > 0) {
-      const Eigen::Vector3d d = q - w.truth_m.col(i - 1);
-      const double sigma = config.dr_sigma_floor_m + config.dr_sigma_fraction * d.norm();
-      e.displacement_m =
-          d + noise_scale * sigma * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
-    }
-    localization::BeaconMeasurement z;
-    z.range_m = q.norm() + noise_scale * config.beacon_sigma_range_m * n01(rng);
-    z.azimuth_rad = std::atan2(q.y(), q.x()) + noise_scale * config.beacon_sigma_angle_rad * n01(rng);
-    z.elevation_rad = std::atan2(q.z(), q.head<2>().norm()) +
-                      noise_scale * config.beacon_sigma_angle_rad * n01(rng);
-    e.beacon = z;
-    e.csi.push_back(simulate_csi(model, q, noise_scale * noise_scale * config.csi_noise_variance, rng));
-    w.epochs.push_back(e);
-  }
-  return w;
 }
 
 double nees(const RefinementResult& r, const Eigen::Vector3d& truth_m) {

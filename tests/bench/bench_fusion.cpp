@@ -1,0 +1,59 @@
+// Cost of the fusion layer: one sliding-window refinement per UAV per swarm iteration, and the
+// centralized eq. 4 solution. Windows are drawn before timing (tests/fusion/window_simulator.h).
+#include <benchmark/benchmark.h>
+
+#include <random>
+#include <vector>
+
+#include "fusion/window_simulator.h"
+#include "losmimo/fusion/centralized.h"
+#include "losmimo/fusion/refinement.h"
+
+namespace {
+
+using losmimo::fusion::RefinementConfig;
+using losmimo::fusion::test_support::draw_window;
+using losmimo::fusion::test_support::DrawnWindow;
+
+constexpr int kNumWindows = 64;
+
+// range(0): window epochs W; range(1): 1 with CSI, 0 beacon + dead reckoning only.
+void BM_RefineWindow(benchmark::State& state) {
+  const losmimo::placement::Scenario scenario;
+  const losmimo::placement::ChannelModel model(scenario);
+  RefinementConfig config;
+  config.window_epochs = static_cast<int>(state.range(0));
+  config.use_csi = state.range(1) != 0;
+  config.beacon_sigma_angle_rad = 1.8e-4;
+  config.csi_noise_variance = scenario.noise_variance();
+  std::mt19937_64 rng(61);
+  std::vector<DrawnWindow> windows;
+  for (int i = 0; i < kNumWindows; ++i) {
+    windows.push_back(draw_window(model, config, config.window_epochs, rng));
+  }
+  int i = 0;
+  for (auto _ : state) {
+    const auto result = losmimo::fusion::refine_window(model, config, windows[i].epochs);
+    benchmark::DoNotOptimize(result.belief.mean_m.data());
+    i = (i + 1) % kNumWindows;
+  }
+}
+BENCHMARK(BM_RefineWindow)
+    ->Args({5, 1})
+    ->Args({5, 0})
+    ->Args({10, 1})
+    ->Unit(benchmark::kMicrosecond);
+
+void BM_SolveCentralized(benchmark::State& state) {
+  const losmimo::placement::Scenario scenario;
+  std::mt19937_64 rng(62);
+  const Eigen::Matrix3Xd start = losmimo::placement::random_start_positions_m(scenario, rng);
+  const losmimo::fusion::CentralizedConfig config;
+  for (auto _ : state) {
+    const auto result = losmimo::fusion::solve_centralized(scenario, start, config);
+    benchmark::DoNotOptimize(result.icn);
+  }
+}
+BENCHMARK(BM_SolveCentralized)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+}  // namespace
