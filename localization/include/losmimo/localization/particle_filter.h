@@ -10,7 +10,11 @@
 // filters apply the same rules to the same kind of belief.
 // Resampling when ESS / N < config.ess_threshold, with config.resampling (resampling.h): MRPT's
 // own automatic resampling is switched off (BETA = 0) because it draws from the global
-// getRandomGenerator(). Every random number comes from the filter's own CRandomGenerator,
+// getRandomGenerator(). After resampling, a Liu-West kernel jitter with bandwidth
+// h = config.regularization_bandwidth moves each particle to a q_i + (1 - a) mean + h L n_i,
+// a = sqrt(1 - h^2), L L^T the pre-resampling covariance: mean and covariance are kept, the
+// duplicates become distinct (h = 0 turns it off).
+// Every random number comes from the filter's own CRandomGenerator,
 // seeded from `seed` (folded to 32 bits by splitmix64: MRPT's generator takes a uint32_t).
 // Belief: weighted mean and covariance of the particles, made SPD (make_spd).
 
