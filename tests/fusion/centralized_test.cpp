@@ -85,9 +85,63 @@ TEST(SolveCentralized, SeededStarts_MeetIcnAndTravelLessThanRigidUra) {
     if (placement::inverse_condition_number(model.matrix(lattice.targets_m())) >= config.target_icn) {
       EXPECT_LE(travel2, (lattice.targets_m() - start).squaredNorm());
     }
+    // Euclidean travel too: below the rigid URA of placement's own planner (Euclidean assignment).
+    placement::UraPlanner rigid(scenario, placement::UraVariant::kRigid);
+    rigid.start(swarm);
+    EXPECT_LE((r.positions_m - start).colwise().norm().sum(),
+              (rigid.targets_m() - start).colwise().norm().sum());
     // The reported travel is that of the reported positions.
     EXPECT_NEAR(r.travel.total_squared_m2, travel2, 1e-9 * travel2);
   }
+}
+
+TEST(SolveCentralized, PenaltyAndRigidUraOnly_StillFeasibleAndNoWorseThanRigidUra) {
+  // Without the GD and lattice starts, the penalty continuation from the start positions may
+  // stall (local minima with ICN < alpha); the rigid URA then bounds the result.
+  const placement::Scenario scenario;
+  const placement::ChannelModel model(scenario);
+  CentralizedConfig config;
+  config.start_from_gd = false;
+  config.start_from_lattice_ura = false;
+  std::mt19937_64 rng(42);
+  for (int trial = 0; trial < 2; ++trial) {
+    const Eigen::Matrix3Xd start = placement::random_start_positions_m(scenario, rng);
+    const CentralizedResult r = solve_centralized(scenario, start, config);
+    ASSERT_EQ(r.status, CentralizedStatus::kFeasible);
+    EXPECT_NE(r.best_start, CentralizedStart::kGd);
+    EXPECT_NE(r.best_start, CentralizedStart::kLatticeUra);
+    EXPECT_GE(placement::inverse_condition_number(model.matrix(r.positions_m)), config.target_icn);
+    EXPECT_LE((r.positions_m - start).squaredNorm(), rigid_ura_squared_travel(scenario, start));
+  }
+}
+
+TEST(SolveCentralized, UnreachableAlpha_StatusMatchesPositions) {
+  // alpha above the rigid URA's own ICN at 1 km (0.9996): infeasible, or feasible for real.
+  const placement::Scenario scenario;
+  const placement::ChannelModel model(scenario);
+  CentralizedConfig config;
+  config.target_icn = 0.99999;
+  config.start_from_gd = false;
+  config.mu_max = 1.0;
+  std::mt19937_64 rng(43);
+  const Eigen::Matrix3Xd start = placement::random_start_positions_m(scenario, rng);
+  const CentralizedResult r = solve_centralized(scenario, start, config);
+  std::cout << "alpha " << config.target_icn << ": " << to_string(r.status) << ", ICN " << r.icn
+            << "\n";
+  if (r.status == CentralizedStatus::kFeasible) {
+    EXPECT_GE(placement::inverse_condition_number(model.matrix(r.positions_m)), config.target_icn);
+  } else {
+    EXPECT_EQ(r.best_start, CentralizedStart::kNone);
+    EXPECT_TRUE(r.positions_m.isApprox(start));
+    EXPECT_EQ(r.travel.total_m, 0.0);
+  }
+  EXPECT_LT(r.rigid_ura_icn, config.target_icn);
+}
+
+TEST(SolveCentralized, WrongStartShape_Throws) {
+  const placement::Scenario scenario;
+  EXPECT_THROW(solve_centralized(scenario, Eigen::Matrix3Xd::Zero(3, 5), CentralizedConfig{}),
+               std::invalid_argument);
 }
 
 }  // namespace
