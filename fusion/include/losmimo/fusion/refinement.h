@@ -15,9 +15,14 @@
 // and the filter keeps running unchanged; the refined belief is what placement uses.
 // Output: the newest position's mean and covariance (ceres::Covariance, DENSE_SVD). When the
 // Jacobian is rank deficient (reciprocal condition number below the configured bound, e.g. a
-// degraded filter whose prior is nearly flat: CSI alone does not observe depth) or the solver
-// fails, the covariance falls back to the dead-reckoning prediction of the prior,
-// cov_0 + sum_i sigma_i^2 I, and the result says so.
+// lost filter with a flat prior and neither beacon nor CSI in the window) or the solver fails,
+// the covariance falls back to the dead-reckoning prediction of the prior,
+// cov_0 + sum_i sigma_i^2 I, and the result says so. (With CSI but a flat prior and no beacon
+// the range is still weakly observed through the wavefront's curvature: the covariance is then
+// Ceres', tight across the line of sight and tens of metres along it.)
+// Limits: the wrapped-phase residual assumes Gaussian phase noise; below ~5 dB per-entry SNR the
+// refined covariance turns slightly optimistic (average NEES ~3.4 instead of 3 at 5 dB) and CSI
+// adds little (lateral RMSE 0.077 vs 0.084 m without CSI at 5 dB, W = 5, one row per epoch).
 //
 // Closed-loop use, once per swarm iteration per UAV:
 //   SlidingWindowRefiner refiner(scenario, config);            // one per UAV
@@ -92,7 +97,8 @@ struct RefinementResult {
 
 // Solves one window (oldest first; every epoch after the first needs displacement_m).
 // Throws std::invalid_argument for an empty window, a missing displacement, a CSI row of the
-// wrong length, or an invalid config.
+// wrong length, an oldest filter covariance that is not symmetric positive definite, or an
+// invalid config.
 RefinementResult refine_window(const placement::ChannelModel& model, const RefinementConfig& config,
                                const std::vector<RefinementEpoch>& window);
 
