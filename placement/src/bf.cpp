@@ -18,11 +18,12 @@ void require_in(const char* field, double value, double lo, double hi, bool lo_o
   }
 }
 
-// Flies to r, measures f with the others fixed, flies back: one probe.
+// Flies to r, measures f with the others fixed, flies back: one probe. The cached channel is
+// brought up to date once per UAV turn (Swarm::sync_channel), not per flight.
 double probe(Swarm& swarm, const UavObjective& view, int m, const Eigen::Vector3d& r) {
-  swarm.move(m, r, MotionKind::kProbe);
-  const double f = view.objective_of_row(swarm.channel().H().row(m).transpose());
-  swarm.move(m, -r, MotionKind::kProbe);
+  swarm.move(m, r, MotionKind::kProbe, false);
+  const double f = view.objective_of_row(swarm.measure_row(m));
+  swarm.move(m, -r, MotionKind::kProbe, false);
   return f;
 }
 }  // namespace
@@ -68,7 +69,11 @@ int BruteForcePlanner::step_uav(Swarm& swarm, int m, double b) {
       best = z;
     }
   }
-  if (best != 0) swarm.move(m, b * kProbes[best], MotionKind::kPlacement);
+  if (best != 0) {
+    swarm.move(m, b * kProbes[best], MotionKind::kPlacement);
+  } else {
+    swarm.sync_channel(m);  // the probe flights' actuation errors moved it
+  }
   return best;
 }
 
@@ -99,6 +104,7 @@ bool BruteForcePlanner::try_escape(Swarm& swarm) {
     escape_rank_ = 0;
     return true;
   }
+  swarm.sync_channel(m);
   ++escape_rank_;
   return false;
 }

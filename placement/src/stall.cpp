@@ -1,6 +1,6 @@
 #include "losmimo/placement/stall.h"
 
-#include <Eigen/SVD>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <numeric>
 
@@ -21,9 +21,10 @@ bool StallDetector::update(double objective) {
 void StallDetector::reset() { count_ = 0; }
 
 std::vector<int> uavs_by_redundancy(const SwarmChannel& channel) {
-  const Eigen::JacobiSVD<Eigen::MatrixXcd> svd(channel.H(), Eigen::ComputeThinU);
-  const Eigen::Index weakest = svd.singularValues().size() - 1;
-  const Eigen::VectorXd weight = svd.matrixU().col(weakest).cwiseAbs2();
+  // The left singular vector of sigma_min is H v / sigma_min with v the eigenvector of the
+  // smallest eigenvalue of G = H^H H: an Nt x Nt Hermitian problem instead of an SVD of H.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> eig(channel.gram());
+  const Eigen::VectorXd weight = (channel.H() * eig.eigenvectors().col(0)).cwiseAbs2();
   std::vector<int> order(weight.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return weight(a) > weight(b); });

@@ -39,10 +39,10 @@ Eigen::Vector3d Swarm::estimate_position(int m) {
   return q_m_.col(m) + gaussian(errors_.sigma_loc_m);
 }
 
-Eigen::Vector3d Swarm::move(int m, const Eigen::Vector3d& r_m, MotionKind kind) {
+Eigen::Vector3d Swarm::move(int m, const Eigen::Vector3d& r_m, MotionKind kind, bool update_channel) {
   const Eigen::Vector3d actual = r_m + gaussian(errors_.sigma_act_m);
   q_m_.col(m) += actual;
-  channel_.set_position(m, q_m_.col(m));
+  if (update_channel) channel_.set_position(m, q_m_.col(m));
   (kind == MotionKind::kProbe ? probe_dist_m_ : placement_dist_m_)(m) += actual.norm();
   return actual;
 }

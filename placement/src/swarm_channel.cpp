@@ -20,9 +20,19 @@ void SwarmChannel::set_position(int m, const Eigen::Vector3d& q_m) { set_row(m, 
 
 void SwarmChannel::set_row(int m, const Eigen::VectorXcd& x) {
   // G_lk = sum_n conj(H_nl) H_nk: remove the old row's outer product, add the new one.
-  const Eigen::VectorXcd old = H_.row(m).transpose();
-  G_.noalias() -= old.conjugate() * old.transpose();
-  G_.noalias() += x.conjugate() * x.transpose();
+  // G is Hermitian: update the upper triangle (column-major friendly) and mirror it.
+  const Eigen::Index nt = x.size();
+  for (Eigen::Index k = 0; k < nt; ++k) {
+    const std::complex<double> xk = x(k);
+    const std::complex<double> ok = H_(m, k);
+    for (Eigen::Index l = 0; l <= k; ++l) {
+      G_(l, k) += std::conj(x(l)) * xk - std::conj(H_(m, l)) * ok;
+    }
+  }
+  for (Eigen::Index k = 0; k < nt; ++k) {
+    G_(k, k) = G_(k, k).real();
+    for (Eigen::Index l = k + 1; l < nt; ++l) G_(l, k) = std::conj(G_(k, l));
+  }
   H_.row(m) = x.transpose();
   if (++updates_since_refresh_ >= kRefreshEvery) refresh();
 }

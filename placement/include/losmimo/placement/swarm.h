@@ -39,8 +39,13 @@ class Swarm {
 
   // Where UAV m believes it is (see the error model above).
   Eigen::Vector3d estimate_position(int m);
-  // Commands UAV m to move by r_m; returns the true displacement.
-  Eigen::Vector3d move(int m, const Eigen::Vector3d& r_m, MotionKind kind);
+  // Commands UAV m to move by r_m; returns the true displacement. With update_channel false
+  // the channel keeps UAV m's old row until sync_channel(m): BF's probe flights measure the
+  // row at the probe point through UavObjective, and the others' Gram matrix stays fixed.
+  Eigen::Vector3d move(int m, const Eigen::Vector3d& r_m, MotionKind kind, bool update_channel = true);
+  // UAV m's channel row at its true position (what it measures now, noise-free).
+  Eigen::VectorXcd measure_row(int m) const { return channel_.model().row(q_m_.col(m)); }
+  void sync_channel(int m) { channel_.set_position(m, q_m_.col(m)); }
 
   const Eigen::VectorXd& placement_distance_m() const { return placement_dist_m_; }
   const Eigen::VectorXd& probe_distance_m() const { return probe_dist_m_; }
