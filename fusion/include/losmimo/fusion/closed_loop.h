@@ -1,0 +1,172 @@
+#pragma once
+// The closed loop of issue 5: placement driven by estimated, not true, positions.
+//
+// One swarm iteration i (i = 1, 2, ...), after the paper's master/drone pseudocode:
+//  1. Localization, epoch k = i - 1 (epoch 0 is taken in start()). Every UAV m
+//     - measures its dead-reckoning displacement since epoch k - 1 (SensorSimulator::
+//       measure_displacement of the true net displacement the Swarm applied, probe flights
+//       included: the error model sees the net motion only);
+//     - receives the BS beacon at its true position (SensorSimulator::measure_beacon; outages
+//       from SimulatorConfig::outages for every UAV plus ClosedLoopConfig::outages per UAV);
+//     - runs one filter epoch (localization::PositionFilter::step).
+//  2. With refinement on, the UAV also measures its CSI row at its true position (simulate_csi,
+//     noise Scenario::noise_variance()) and its SlidingWindowRefiner's result replaces the
+//     filter's belief for placement (the filter keeps running on its own beliefs).
+//  3. Placement, one UAV at a time in index order (the others' rows are current):
+//     - belief not degraded (or fallback off): GD, r = GradientDescentPlanner::plan_move at the
+//       belief mean (GdBeliefMode::kMean) or the mean of plan_move over the belief's six
+//       unscented sigma points mu +- sqrt(3) L e_j, P = L L^T (kSigmaPoints: the expected move
+//       under the belief);
+//     - belief degraded (Belief::degraded: beacon timeout or covariance too large) and fallback
+//       on: BF, BruteForcePlanner::step_uav with BF's step schedule and per-UAV compass
+//       contraction (bf.h); the UAV returns to GD as soon as its belief is no longer degraded.
+//     The Swarm applies the actuation error (placement::ErrorModel::sigma_act_m); its
+//     sigma_loc_m is not used: the beliefs replace the Gaussian localization model.
+//     Stall escape (stall.h, GdOptions::escape): the most redundant UAV in GD mode searches its
+//     lateral period around its belief mean, as GradientDescentPlanner does; a redundant UAV in
+//     BF mode is skipped.
+//  4. run_placement (placement/run.h) evaluates the ICN and stops at the target.
+//
+// Randomness: one run seed; every UAV's simulator, filter and CSI generator and the Swarm get
+// their own std::mt19937_64 seeds derived from it (SplitMix64), so a run depends on the seed
+// only, in any thread.
+// Initial belief (epoch 0): the beacon-only fix (localization::beacon_fix) when the UAV has a
+// beacon at epoch 0, otherwise the start cube as a prior (mean at its centre, 1-sigma
+// cube_side_m / sqrt(12) per axis, degraded).
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "losmimo/fusion/refinement.h"
+#include "losmimo/localization/filter.h"
+#include "losmimo/localization/sensor_simulator.h"
+#include "losmimo/placement/bf.h"
+#include "losmimo/placement/gd.h"
+#include "losmimo/placement/run.h"
+#include "losmimo/placement/settings.h"
+#include "losmimo/placement/stall.h"
+
+namespace losmimo::fusion {
+
+// Where GD evaluates its move from the belief N(mu, P).
+enum class GdBeliefMode {
+  kMean,         // plan_move at mu
+  kSigmaPoints,  // mean of plan_move at mu +- sqrt(3) L e_j, j = 1..3
+};
+std::string to_string(GdBeliefMode mode);
+// "mean" or "sigma_points"; throws std::invalid_argument otherwise.
+GdBeliefMode gd_belief_mode_from_string(const std::string& text);
+
+// UAV `uav` has no beacon during `window` (epochs; epoch k is localized at the start of
+// iteration k + 1).
+struct UavBeaconOutage {
+  int uav = 0;
+  localization::OutageWindow window;
+};
+
+struct ClosedLoopConfig {
+  localization::FilterKind filter_kind = localization::FilterKind::kEkf;
+  localization::FilterConfig filter;        // what the filter assumes
+  localization::SimulatorConfig simulator;  // the truth; sigma_act_m unused (the Swarm's)
+  bool refine = false;                      // Ceres sliding-window refinement (refinement.h)
+  RefinementConfig refinement;
+  bool fallback_to_bf = true;               // degraded belief -> BF for that iteration
+  GdBeliefMode gd_mode = GdBeliefMode::kMean;
+  std::vector<UavBeaconOutage> outages;     // per UAV, on top of simulator.outages
+};
+
+// Throws std::invalid_argument naming the first bad field and its value (the nested configs
+// through their own validate()). UAV indices are checked against the swarm in start().
+void validate(const ClosedLoopConfig& config);
+
+// The filter and sensor config that match a simulator: the filter assumes the true sensor noise.
+ClosedLoopConfig matched_closed_loop_config(const localization::SimulatorConfig& simulator,
+                                            const placement::Scenario& scenario);
+
+enum class UavMode : char { kGd = 'G', kBf = 'B' };
+
+// Localization and mode statistics of one run. Errors are the belief means placement used
+// (refined when refinement is on) against the true positions, over every epoch and UAV.
+struct ClosedLoopStats {
+  int num_epochs = 0;                  // per UAV, epoch 0 included
+  double rmse_m = 0.0;                 // 3-D
+  double lateral_rmse_m = 0.0;         // y and z (across the line of sight)
+  double average_nees = 0.0;           // e^T P^-1 e, 3 dof (3 when consistent)
+  double filter_rmse_m = 0.0;          // the same for the filter's own beliefs
+  double filter_lateral_rmse_m = 0.0;
+  double filter_average_nees = 0.0;
+  double beacon_only_rmse_m = 0.0;     // beacon_fix of every received beacon (0: none)
+  double beacon_only_lateral_rmse_m = 0.0;
+  int num_beacons = 0;
+  std::vector<int> gd_iterations;          // per UAV
+  std::vector<int> bf_fallback_iterations; // per UAV
+  std::vector<int> last_fallback_iteration;  // per UAV, 0 = never
+  std::vector<std::string> mode_trace;     // [iteration - 1][uav]: 'G' or 'B'
+  int escapes = 0;                         // successful stall escapes
+  int refinement_covariance_fallbacks = 0; // CovarianceSource::kDeadReckoning results
+};
+
+class ClosedLoopPlanner : public placement::Planner {
+ public:
+  ClosedLoopPlanner(const placement::Scenario& scenario, const placement::GdOptions& gd,
+                    const placement::BfOptions& bf, const ClosedLoopConfig& config,
+                    std::uint64_t seed);
+  ~ClosedLoopPlanner() override;
+  ClosedLoopPlanner(const ClosedLoopPlanner&) = delete;
+  ClosedLoopPlanner& operator=(const ClosedLoopPlanner&) = delete;
+
+  // "gd+ekf", "gd+pf+ceres", ... ("+sp" for sigma points).
+  std::string name() const override;
+  // Builds the per-UAV sensors and filters (fresh seeds) and localizes epoch 0.
+  void start(placement::Swarm& swarm) override;
+  void iterate(placement::Swarm& swarm, int iteration) override;
+
+  // The beliefs placement uses now, one per UAV.
+  const std::vector<localization::Belief>& beliefs() const { return beliefs_; }
+  ClosedLoopStats stats() const;
+
+ private:
+  struct Uav;
+  void localize(placement::Swarm& swarm, int epoch);
+  Eigen::Vector3d plan_gd(const placement::Swarm& swarm, int m, int iteration) const;
+  bool try_escape(placement::Swarm& swarm);
+
+  placement::Scenario scenario_;
+  placement::GdOptions gd_options_;
+  placement::BfOptions bf_options_;
+  ClosedLoopConfig config_;
+  std::uint64_t seed_;
+  placement::ChannelModel model_;
+  placement::GradientDescentPlanner gd_;
+  placement::StallDetector stall_;
+  int escape_rank_ = 0;
+  std::vector<Uav> uavs_;  // per-UAV sensors, filter, refiner (closed_loop.cpp)
+  std::vector<localization::Belief> beliefs_;
+
+  // Accumulated statistics (see ClosedLoopStats).
+  struct Sums {
+    double sq_m2 = 0.0, lateral_sq_m2 = 0.0, nees = 0.0;
+    double filter_sq_m2 = 0.0, filter_lateral_sq_m2 = 0.0, filter_nees = 0.0;
+    double beacon_sq_m2 = 0.0, beacon_lateral_sq_m2 = 0.0;
+    long samples = 0;
+    long beacons = 0;
+  } sums_;
+  ClosedLoopStats modes_;  // the per-UAV and per-iteration fields only
+};
+
+// One closed-loop run with the given settings: scenario, GD and BF options, run options
+// (target ICN, iteration cap) and errors.sigma_act_m (errors.sigma_loc_m is not used).
+struct ClosedLoopRun {
+  placement::RunResult run;
+  ClosedLoopStats stats;
+};
+ClosedLoopRun run_closed_loop(const placement::PlacementSettings& settings,
+                              const Eigen::Matrix3Xd& start_m, const ClosedLoopConfig& config,
+                              std::uint64_t seed);
+
+}  // namespace losmimo::fusion

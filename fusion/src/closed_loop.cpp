@@ -1,0 +1,333 @@
+#include "losmimo/fusion/closed_loop.h"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "losmimo/localization/beacon_model.h"
+
+namespace losmimo::fusion {
+
+namespace {
+
+// SplitMix64 (Steele, Lea, Flood 2014): decorrelates the streams derived from one run seed.
+std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9E3779B97F4A7C15ULL;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
+  return x ^ (x >> 31);
+}
+
+enum class Stream : std::uint64_t { kSwarm = 1, kSimulator = 2, kFilter = 3, kCsi = 4 };
+
+std::uint64_t derive_seed(std::uint64_t run_seed, Stream stream, int uav) {
+  const std::uint64_t tag = (static_cast<std::uint64_t>(stream) << 32) | static_cast<std::uint32_t>(uav);
+  return splitmix64(splitmix64(run_seed) ^ splitmix64(tag));
+}
+
+[[noreturn]] void fail(const std::string& field, double value, const std::string& rule) {
+  std::ostringstream msg;
+  msg << "closed_loop." << field << " = " << value << ": must be " << rule;
+  throw std::invalid_argument(msg.str());
+}
+
+double nees(const localization::Belief& b, const Eigen::Vector3d& truth_m) {
+  const Eigen::Vector3d e = b.mean_m - truth_m;
+  return e.dot(b.cov_m2.ldlt().solve(e));
+}
+
+}  // namespace
+
+std::string to_string(GdBeliefMode mode) {
+  return mode == GdBeliefMode::kMean ? "mean" : "sigma_points";
+}
+
+GdBeliefMode gd_belief_mode_from_string(const std::string& text) {
+  if (text == "mean") return GdBeliefMode::kMean;
+  if (text == "sigma_points") return GdBeliefMode::kSigmaPoints;
+  throw std::invalid_argument("closed_loop.gd_mode = '" + text + "': must be mean or sigma_points");
+}
+
+void validate(const ClosedLoopConfig& config) {
+  localization::validate(config.filter);
+  localization::validate(config.simulator);
+  validate(config.refinement);
+  for (std::size_t i = 0; i < config.outages.size(); ++i) {
+    const UavBeaconOutage& o = config.outages[i];
+    const std::string field = "outages[" + std::to_string(i) + "]";
+    if (o.uav < 0) fail(field + ".uav", o.uav, ">= 0");
+    if (o.window.first_epoch < 0) fail(field + ".first_epoch", o.window.first_epoch, ">= 0");
+    if (o.window.num_epochs < 0) fail(field + ".num_epochs", o.window.num_epochs, ">= 0");
+  }
+}
+
+ClosedLoopConfig matched_closed_loop_config(const localization::SimulatorConfig& simulator,
+                                            const placement::Scenario& scenario) {
+  ClosedLoopConfig config;
+  config.simulator = simulator;
+  config.filter.noise.sigma_range_m = simulator.sigma_range_m;
+  config.filter.noise.sigma_angle_rad = simulator.sigma_angle_rad;
+  config.filter.noise.dr_sigma_floor_m = simulator.dr_sigma_floor_m;
+  config.filter.noise.dr_sigma_fraction = simulator.dr_sigma_fraction;
+  config.refinement = refinement_config_from(config.filter.noise, scenario.noise_variance());
+  return config;
+}
+
+// Everything one UAV owns: its sensors, filter, refiner and CSI generator, each seeded.
+struct ClosedLoopPlanner::Uav {
+  localization::SensorSimulator simulator;
+  std::unique_ptr<localization::PositionFilter> filter;
+  std::optional<SlidingWindowRefiner> refiner;
+  std::mt19937_64 csi_rng;
+  Eigen::Vector3d last_q_m = Eigen::Vector3d::Zero();  // true position at the last epoch
+  double bf_step_scale = 1.0;                          // BF's compass factor (bf.h)
+};
+
+ClosedLoopPlanner::ClosedLoopPlanner(const placement::Scenario& scenario,
+                                     const placement::GdOptions& gd, const placement::BfOptions& bf,
+                                     const ClosedLoopConfig& config, std::uint64_t seed)
+    : scenario_(scenario),
+      gd_options_(gd),
+      bf_options_(bf),
+      config_(config),
+      seed_(seed),
+      model_(scenario),
+      gd_(scenario, gd),
+      stall_(gd.stall_window, gd.stall_min_decrease) {
+  placement::validate(bf_options_);
+  validate(config_);
+}
+
+ClosedLoopPlanner::~ClosedLoopPlanner() = default;
+
+std::string ClosedLoopPlanner::name() const {
+  std::string n = "gd+" + std::string(config_.filter_kind == localization::FilterKind::kEkf ? "ekf" : "pf");
+  if (config_.refine) n += "+ceres";
+  if (config_.gd_mode == GdBeliefMode::kSigmaPoints) n += "+sp";
+  return n;
+}
+
+void ClosedLoopPlanner::start(placement::Swarm& swarm) {
+  const int nr = swarm.num_uavs();
+  for (std::size_t i = 0; i < config_.outages.size(); ++i) {
+    if (config_.outages[i].uav >= nr) {
+      fail("outages[" + std::to_string(i) + "].uav", config_.outages[i].uav,
+           "< the number of UAVs (" + std::to_string(nr) + ")");
+    }
+  }
+  uavs_.clear();
+  beliefs_.assign(nr, localization::Belief{});
+  sums_ = Sums{};
+  modes_ = ClosedLoopStats{};
+  modes_.gd_iterations.assign(nr, 0);
+  modes_.bf_fallback_iterations.assign(nr, 0);
+  modes_.last_fallback_iteration.assign(nr, 0);
+  stall_.reset();
+  escape_rank_ = 0;
+
+  const double prior_sigma_m = scenario_.cube_side_m / std::sqrt(12.0);  // uniform start cube
+  for (int m = 0; m < nr; ++m) {
+    localization::SimulatorConfig sim = config_.simulator;
+    for (const UavBeaconOutage& o : config_.outages) {
+      if (o.uav == m) sim.outages.push_back(o.window);
+    }
+    Uav uav{localization::SensorSimulator(sim, derive_seed(seed_, Stream::kSimulator, m)),
+            nullptr, std::nullopt, std::mt19937_64(derive_seed(seed_, Stream::kCsi, m)),
+            swarm.true_positions_m().col(m), 1.0};
+    const Eigen::Vector3d q = uav.last_q_m;
+    const std::optional<localization::BeaconMeasurement> z0 = uav.simulator.measure_beacon(q, 0);
+    localization::Belief initial;
+    if (z0) {
+      initial = localization::beacon_fix(*z0, config_.filter.noise.sigma_range_m,
+                                         config_.filter.noise.sigma_angle_rad);
+      sums_.beacon_sq_m2 += (initial.mean_m - q).squaredNorm();
+      sums_.beacon_lateral_sq_m2 += (initial.mean_m - q).tail<2>().squaredNorm();
+      ++sums_.beacons;
+    } else {
+      initial.mean_m = scenario_.cube_center_m;
+      initial.cov_m2 = prior_sigma_m * prior_sigma_m * Eigen::Matrix3d::Identity();
+      initial.degraded = true;
+      initial.epochs_since_beacon = config_.filter.degraded_after_epochs;
+    }
+    uav.filter = localization::make_filter(config_.filter_kind, config_.filter, initial,
+                                           derive_seed(seed_, Stream::kFilter, m));
+    localization::Belief belief = initial;
+    if (config_.refine) {
+      uav.refiner.emplace(scenario_, config_.refinement);
+      std::vector<CsiMeasurement> csi;
+      if (config_.refinement.use_csi)
+        csi.push_back(simulate_csi(model_, q, scenario_.noise_variance(), uav.csi_rng));
+      uav.refiner->add_epoch({initial, std::nullopt, z0, std::move(csi)});
+      const RefinementResult r = uav.refiner->refine();
+      if (r.covariance_source == CovarianceSource::kDeadReckoning) ++modes_.refinement_covariance_fallbacks;
+      belief = r.belief;
+    }
+    beliefs_[m] = belief;
+    const Eigen::Vector3d e = belief.mean_m - q, e_f = initial.mean_m - q;
+    sums_.sq_m2 += e.squaredNorm();
+    sums_.lateral_sq_m2 += e.tail<2>().squaredNorm();
+    sums_.nees += nees(belief, q);
+    sums_.filter_sq_m2 += e_f.squaredNorm();
+    sums_.filter_lateral_sq_m2 += e_f.tail<2>().squaredNorm();
+    sums_.filter_nees += nees(initial, q);
+    ++sums_.samples;
+    uavs_.push_back(std::move(uav));
+  }
+  modes_.num_epochs = 1;
+}
+
+void ClosedLoopPlanner::localize(placement::Swarm& swarm, int epoch) {
+  for (int m = 0; m < swarm.num_uavs(); ++m) {
+    Uav& uav = uavs_[m];
+    const Eigen::Vector3d q = swarm.true_positions_m().col(m);
+    const Eigen::Vector3d d_meas = uav.simulator.measure_displacement(q - uav.last_q_m);
+    uav.last_q_m = q;
+    const std::optional<localization::BeaconMeasurement> z = uav.simulator.measure_beacon(q, epoch);
+    uav.filter->step(d_meas, z);
+    const localization::Belief filtered = uav.filter->belief();
+    localization::Belief belief = filtered;
+    if (uav.refiner) {
+      std::vector<CsiMeasurement> csi;
+      if (config_.refinement.use_csi)
+        csi.push_back(simulate_csi(model_, q, scenario_.noise_variance(), uav.csi_rng));
+      uav.refiner->add_epoch({filtered, d_meas, z, std::move(csi)});
+      const RefinementResult r = uav.refiner->refine();
+      if (r.covariance_source == CovarianceSource::kDeadReckoning) ++modes_.refinement_covariance_fallbacks;
+      belief = r.belief;
+    }
+    beliefs_[m] = belief;
+
+    const Eigen::Vector3d e = belief.mean_m - q, e_f = filtered.mean_m - q;
+    sums_.sq_m2 += e.squaredNorm();
+    sums_.lateral_sq_m2 += e.tail<2>().squaredNorm();
+    sums_.nees += nees(belief, q);
+    sums_.filter_sq_m2 += e_f.squaredNorm();
+    sums_.filter_lateral_sq_m2 += e_f.tail<2>().squaredNorm();
+    sums_.filter_nees += nees(filtered, q);
+    ++sums_.samples;
+    if (z) {
+      const Eigen::Vector3d e_b = localization::beacon_to_position(localization::to_vector(*z)) - q;
+      sums_.beacon_sq_m2 += e_b.squaredNorm();
+      sums_.beacon_lateral_sq_m2 += e_b.tail<2>().squaredNorm();
+      ++sums_.beacons;
+    }
+  }
+  ++modes_.num_epochs;
+}
+
+Eigen::Vector3d ClosedLoopPlanner::plan_gd(const placement::Swarm& swarm, int m, int iteration) const {
+  const localization::Belief& b = beliefs_[m];
+  if (config_.gd_mode == GdBeliefMode::kMean) return gd_.plan_move(swarm, m, b.mean_m, iteration);
+  // Unscented points with kappa = 0 for n = 3: the centre has weight 0, the six others 1/6.
+  const Eigen::LLT<Eigen::Matrix3d> llt(b.cov_m2);
+  if (llt.info() != Eigen::Success) return gd_.plan_move(swarm, m, b.mean_m, iteration);
+  const Eigen::Matrix3d spread = std::sqrt(3.0) * llt.matrixL().toDenseMatrix();
+  Eigen::Vector3d r = Eigen::Vector3d::Zero();
+  for (int j = 0; j < 3; ++j) {
+    r += gd_.plan_move(swarm, m, b.mean_m + spread.col(j), iteration);
+    r += gd_.plan_move(swarm, m, b.mean_m - spread.col(j), iteration);
+  }
+  return r / 6.0;
+}
+
+void ClosedLoopPlanner::iterate(placement::Swarm& swarm, int iteration) {
+  if (uavs_.size() != static_cast<std::size_t>(swarm.num_uavs()))
+    throw std::logic_error("ClosedLoopPlanner::iterate before start()");
+  if (iteration > 1) localize(swarm, iteration - 1);  // epoch 0 was start()'s
+
+  const double b_bf = bf_options_.step * std::pow(bf_options_.decay, iteration - 1);
+  std::string modes(swarm.num_uavs(), static_cast<char>(UavMode::kGd));
+  for (int m = 0; m < swarm.num_uavs(); ++m) {
+    if (config_.fallback_to_bf && beliefs_[m].degraded) {
+      Uav& uav = uavs_[m];
+      const double b_m = std::max(b_bf * uav.bf_step_scale, std::min(b_bf, bf_options_.min_step_m));
+      const bool moved = placement::BruteForcePlanner::step_uav(swarm, m, b_m) != 0;
+      uav.bf_step_scale = moved ? std::min(1.0, uav.bf_step_scale / bf_options_.contraction)
+                                : uav.bf_step_scale * bf_options_.contraction;
+      modes[m] = static_cast<char>(UavMode::kBf);
+      ++modes_.bf_fallback_iterations[m];
+      modes_.last_fallback_iteration[m] = iteration;
+    } else {
+      // Back in GD the compass restarts from the full step at the next fallback.
+      uavs_[m].bf_step_scale = 1.0;
+      swarm.move(m, plan_gd(swarm, m, iteration), placement::MotionKind::kPlacement);
+      ++modes_.gd_iterations[m];
+    }
+  }
+  modes_.mode_trace.push_back(modes);
+  if (gd_options_.escape && stall_.update(swarm.channel().objective()) && try_escape(swarm)) {
+    stall_.reset();
+    ++modes_.escapes;
+  }
+}
+
+// GradientDescentPlanner's escape (gd.h), from the belief mean; BF-mode UAVs are skipped.
+bool ClosedLoopPlanner::try_escape(placement::Swarm& swarm) {
+  constexpr int kHalfGrid = 4;  // (2 * 4 + 1)^2 candidates, spacing period / 8
+  const std::vector<int> order = placement::uavs_by_redundancy(swarm.channel());
+  const int m = order[escape_rank_ % static_cast<int>(order.size())];
+  ++escape_rank_;
+  if (config_.fallback_to_bf && beliefs_[m].degraded) return false;
+  const Eigen::Vector3d q_hat = beliefs_[m].mean_m;
+  const placement::UavObjective view(swarm.channel(), m);
+  const double spacing =
+      placement::lateral_period_m(scenario_.wavelength_m(), q_hat.x(), scenario_.bs_spacing_m) /
+      (2 * kHalfGrid);
+  Eigen::Vector3d best_offset = Eigen::Vector3d::Zero();
+  const double f0 = view.objective_at(q_hat);
+  double best_f = f0;
+  for (int i = -kHalfGrid; i <= kHalfGrid; ++i) {
+    for (int j = -kHalfGrid; j <= kHalfGrid; ++j) {
+      const Eigen::Vector3d offset(0.0, i * spacing, j * spacing);
+      const double f = view.objective_at(q_hat + offset);
+      if (f < best_f) {
+        best_f = f;
+        best_offset = offset;
+      }
+    }
+  }
+  if (best_f < (1.0 - gd_options_.stall_min_decrease) * f0) {
+    swarm.move(m, best_offset, placement::MotionKind::kPlacement);
+    escape_rank_ = 0;
+    return true;
+  }
+  return false;
+}
+
+ClosedLoopStats ClosedLoopPlanner::stats() const {
+  ClosedLoopStats s = modes_;
+  if (sums_.samples > 0) {
+    const double n = static_cast<double>(sums_.samples);
+    s.rmse_m = std::sqrt(sums_.sq_m2 / n);
+    s.lateral_rmse_m = std::sqrt(sums_.lateral_sq_m2 / n);
+    s.average_nees = sums_.nees / n;
+    s.filter_rmse_m = std::sqrt(sums_.filter_sq_m2 / n);
+    s.filter_lateral_rmse_m = std::sqrt(sums_.filter_lateral_sq_m2 / n);
+    s.filter_average_nees = sums_.filter_nees / n;
+  }
+  s.num_beacons = static_cast<int>(sums_.beacons);
+  if (sums_.beacons > 0) {
+    s.beacon_only_rmse_m = std::sqrt(sums_.beacon_sq_m2 / static_cast<double>(sums_.beacons));
+    s.beacon_only_lateral_rmse_m =
+        std::sqrt(sums_.beacon_lateral_sq_m2 / static_cast<double>(sums_.beacons));
+  }
+  return s;
+}
+
+ClosedLoopRun run_closed_loop(const placement::PlacementSettings& settings,
+                              const Eigen::Matrix3Xd& start_m, const ClosedLoopConfig& config,
+                              std::uint64_t seed) {
+  placement::ErrorModel errors = settings.errors;
+  errors.sigma_loc_m = 0.0;  // the beliefs replace the Gaussian localization model
+  const placement::ChannelModel model(settings.scenario);  // the Swarm keeps a pointer to it
+  placement::Swarm swarm(model, start_m, errors,
+                         derive_seed(seed, Stream::kSwarm, 0));
+  ClosedLoopPlanner planner(settings.scenario, settings.gd, settings.bf, config, seed);
+  ClosedLoopRun out;
+  out.run = placement::run_placement(planner, swarm, settings.run);
+  out.stats = planner.stats();
+  return out;
+}
+
+}  // namespace losmimo::fusion
