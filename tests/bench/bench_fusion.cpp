@@ -7,6 +7,7 @@
 
 #include "fusion/window_simulator.h"
 #include "losmimo/fusion/centralized.h"
+#include "losmimo/fusion/closed_loop.h"
 #include "losmimo/fusion/refinement.h"
 
 namespace {
@@ -55,5 +56,30 @@ void BM_SolveCentralized(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_SolveCentralized)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+// One closed-loop placement run on the paper scenario (16 UAVs, beacon 0.18 m cross-range),
+// to ICN 0.95. range(0): 0 EKF, 1 EKF + Ceres refinement, 2 particle filter.
+void BM_ClosedLoopRun(benchmark::State& state) {
+  losmimo::placement::PlacementSettings settings;
+  settings.errors.sigma_act_m = 0.02;
+  std::mt19937_64 rng(63);
+  const Eigen::Matrix3Xd start = losmimo::placement::random_start_positions_m(settings.scenario, rng);
+  losmimo::localization::SimulatorConfig sim;
+  sim.sigma_angle_rad = 1.8e-4;
+  losmimo::fusion::ClosedLoopConfig config =
+      losmimo::fusion::matched_closed_loop_config(sim, settings.scenario);
+  config.refine = state.range(0) == 1;
+  if (state.range(0) == 2) config.filter_kind = losmimo::localization::FilterKind::kParticle;
+  std::uint64_t seed = 1;
+  int iterations = 0;
+  for (auto _ : state) {
+    const auto run = losmimo::fusion::run_closed_loop(settings, start, config, seed++);
+    iterations += run.run.iterations;
+    benchmark::DoNotOptimize(run.run.final_m.data());
+  }
+  state.counters["swarm_iterations"] =
+      benchmark::Counter(iterations, benchmark::Counter::kAvgIterations);
+}
+BENCHMARK(BM_ClosedLoopRun)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
 }  // namespace
