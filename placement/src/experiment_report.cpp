@@ -160,10 +160,10 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
       const std::string c = color(traced[i]);
       const std::string name = to_string(traced[i]);
       a << (i ? ", " : "") << "'fig1.dat' index " << i << " using 1:2 with lines lw 2 lc rgb '" << c
-        << "' title '" << name << "'";
+        << "' title '" << name << "' noenhanced";
       b << (i ? ", " : "") << "'fig1.dat' index " << i << " using 1:3 with lines lw 2 dt 1 lc rgb '" << c
-        << "' title '" << name << " NV', '' index " << i << " using 1:4 with lines lw 2 dt 2 lc rgb '" << c
-        << "' title '" << name << " ZF', '' index " << i << " using 1:5 with lines lw 1 dt 4 lc rgb '#9467bd' title '"
+        << "' title '" << name << " NV' noenhanced, '' index " << i << " using 1:4 with lines lw 2 dt 2 lc rgb '" << c
+        << "' title '" << name << " ZF' noenhanced, '' index " << i << " using 1:5 with lines lw 1 dt 4 lc rgb '#9467bd' title '"
         << name << " MF'";
     }
     write_file_atomically((dir / "fig1a.gp").string(), a.str() + "\n");
@@ -182,8 +182,8 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
       const std::string c = color(movers[i]);
       const std::string name = to_string(movers[i]);
       g << (i ? ", " : "") << "'fig2a.dat' index " << i << " using 1:2:3 with yerrorlines lw 2 dt 1 lc rgb '" << c
-        << "' title '" << name << " ICN 0.5', '' index " << i << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '"
-        << c << "' title '" << name << " ICN 0.95'";
+        << "' title '" << name << " ICN 0.5' noenhanced, '' index " << i << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '"
+        << c << "' title '" << name << " ICN 0.95' noenhanced";
     }
     write_file_atomically((dir / "fig2a.gp").string(), g.str() + "\n");
   }
@@ -204,8 +204,8 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
       const std::string c = color(s.algorithms[i]);
       const std::string name = to_string(s.algorithms[i]);
       g << (i ? ", " : "") << "'" << stem << ".dat' index " << i << " using 1:2:3 with yerrorlines lw 2 dt 1 lc rgb '"
-        << c << "' title '" << name << " NV', '' index " << i << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '"
-        << c << "' title '" << name << " ZF'";
+        << c << "' title '" << name << " NV' noenhanced, '' index " << i << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '"
+        << c << "' title '" << name << " ZF' noenhanced";
       if (i == 0) g << ", '' index 0 using 1:6 with lines lw 1 dt 4 lc rgb '#9467bd' title 'MF'";
     }
     write_file_atomically((dir / (stem + ".gp")).string(), g.str() + "\n");
