@@ -18,5 +18,5 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-  return losmimo::placement::run_experiment_app(options, std::cout, std::cerr);
+  return losmimo::placement::run_experiment_app(options, {}, std::cout, std::cerr);
 }

@@ -20,14 +20,20 @@ namespace losmimo::placement {
 
 namespace {
 struct PointTask {
-  Sweep sweep;
+  const SweepPoints* sweep;
   int point;
+  const ExperimentExtension* extension;  // nullptr: a built-in sweep
 };
 
-std::vector<PointTask> point_tasks(const ExperimentSettings& s) {
+std::vector<PointTask> point_tasks(const ExperimentSettings& s, const ExperimentExtensions& extensions) {
   std::vector<PointTask> tasks;
-  for (int i = 0; i < static_cast<int>(s.sigma_loc_values_m.size()); ++i) tasks.push_back({Sweep::kSigmaLoc, i});
-  for (int i = 0; i < static_cast<int>(s.sigma_act_values_m.size()); ++i) tasks.push_back({Sweep::kSigmaAct, i});
+  for (const SweepPoints& sweep : s.sweeps) {
+    const ExperimentExtension* extension = nullptr;
+    for (const ExperimentExtension& e : extensions) {
+      if (e.sweep == sweep.name) extension = &e;
+    }
+    for (int i = 0; i < static_cast<int>(sweep.values.size()); ++i) tasks.push_back({&sweep, i, extension});
+  }
   return tasks;
 }
 
@@ -40,9 +46,11 @@ std::string fmt(double v) {
 }
 }  // namespace
 
-ExperimentResults run_experiment(const ExperimentSettings& s, int threads, const ProgressFn& progress,
+ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentExtensions& extensions, int threads,
+                                 const ProgressFn& progress,
                                  const std::function<void(const std::vector<TrialRecord>&)>& row_sink) {
-  const std::vector<PointTask> points = point_tasks(s);
+  const std::vector<PointTask> points = point_tasks(s, extensions);
+  const std::size_t num_extra = extra_metric_names(s, extensions).size();
   const int trials = s.trials;
   const int total_jobs = static_cast<int>(points.size()) * trials;
   const int num_threads = std::max(1, threads);
@@ -59,7 +67,9 @@ ExperimentResults run_experiment(const ExperimentSettings& s, int threads, const
     for (int job = next++; job < total_jobs; job = next++) {
       const PointTask& task = points[job / trials];
       try {
-        slots[job] = run_trial(s, task.sweep, task.point, job % trials);
+        slots[job] = task.extension ? task.extension->run(s, task.point, job % trials)
+                                    : run_trial(s, task.sweep->name, task.point, job % trials);
+        for (TrialRecord& r : slots[job]) r.extra.resize(num_extra, std::nan(""));
       } catch (...) {
         const std::lock_guard<std::mutex> lock(mutex);
         if (!failure) failure = std::current_exception();
@@ -86,38 +96,42 @@ ExperimentResults run_experiment(const ExperimentSettings& s, int threads, const
     if (row_sink) row_sink(point_records);
     results.records.insert(results.records.end(), point_records.begin(), point_records.end());
     if (progress) {
-      const std::vector<double>& v = points[p].sweep == Sweep::kSigmaLoc ? s.sigma_loc_values_m : s.sigma_act_values_m;
       progress(static_cast<int>(p) + 1, static_cast<int>(points.size()),
-               to_string(points[p].sweep) + " = " + fmt(v[points[p].point]));
+               points[p].sweep->name + " = " + fmt(points[p].sweep->values[points[p].point]));
     }
   }
   if (failure) next = total_jobs;  // stop handing out work
   for (std::thread& t : pool) t.join();
   if (failure) std::rethrow_exception(failure);
 
+  const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
   for (const Algorithm a : s.algorithms) {
-    if (a != Algorithm::kGd && a != Algorithm::kBf) continue;
+    if (!builtin || (a != Algorithm::kGd && a != Algorithm::kBf)) continue;
     for (int t = 0; t < s.fig1_trials; ++t) results.traces.push_back({a, t, run_traced(s, a, t)});
   }
   return results;
 }
 
-void write_trials_header(std::ostream& out) {
+void write_trials_header(std::ostream& out, const std::vector<std::string>& extra) {
   out << "sweep,value,algorithm,trial,seed,iterations,converged,final_icn,dist_to_icn050_m,"
          "dist_to_icn095_m,dist_total_m,probe_dist_m,sinr_nv_db,sinr_zf_db,sinr_mf_db,"
          "sum_rate_nv_bps_hz,sum_rate_zf_bps_hz,mean_sinr_nv_db,mean_sinr_zf_db,mean_sinr_mf_db,"
-         "dist_placement_m,start_seed,status\n";
+         "dist_placement_m,start_seed,status";
+  for (const std::string& e : extra) out << "," << e;
+  out << "\n";
 }
 
-void write_trials_rows(std::ostream& out, const std::vector<TrialRecord>& records) {
+void write_trials_rows(std::ostream& out, const std::vector<TrialRecord>& records, std::size_t num_extra) {
   for (const TrialRecord& r : records) {
-    out << to_string(r.sweep) << "," << fmt(r.value) << "," << to_string(r.algorithm) << "," << r.trial << ","
+    out << r.sweep << "," << fmt(r.value) << "," << r.algorithm << "," << r.trial << ","
         << r.seed << "," << r.iterations << "," << (r.converged ? 1 : 0) << "," << fmt(r.final_icn) << ","
         << fmt(r.dist_to_icn050_m) << "," << fmt(r.dist_to_icn095_m) << "," << fmt(r.dist_total_m) << ","
         << fmt(r.probe_dist_m) << "," << fmt(r.sinr_nv_db) << "," << fmt(r.sinr_zf_db) << ","
         << fmt(r.sinr_mf_db) << "," << fmt(r.sum_rate_nv_bps_hz) << "," << fmt(r.sum_rate_zf_bps_hz) << ","
         << fmt(r.mean_sinr_nv_db) << "," << fmt(r.mean_sinr_zf_db) << "," << fmt(r.mean_sinr_mf_db) << ","
-        << fmt(r.dist_placement_m) << "," << r.start_seed << "," << r.status << "\n";
+        << fmt(r.dist_placement_m) << "," << r.start_seed << "," << r.status;
+    for (std::size_t i = 0; i < num_extra; ++i) out << "," << fmt(i < r.extra.size() ? r.extra[i] : std::nan(""));
+    out << "\n";
   }
 }
 
@@ -126,7 +140,7 @@ void write_positions_header(std::ostream& out) { out << "sweep,value,algorithm,t
 void write_positions_rows(std::ostream& out, const std::vector<TrialRecord>& records) {
   char buf[128];
   for (const TrialRecord& r : records) {
-    const std::string prefix = to_string(r.sweep) + "," + fmt(r.value) + "," + to_string(r.algorithm) + "," +
+    const std::string prefix = r.sweep + "," + fmt(r.value) + "," + r.algorithm + "," +
                                std::to_string(r.trial) + ",";
     for (const auto& [stage, q] : {std::pair<const char*, const Eigen::Matrix3Xd*>{"start", &r.start_m},
                                    {"final", &r.final_m}}) {
@@ -189,20 +203,29 @@ std::vector<std::string> summary_metric_names() {
           "sum_rate_nv_bps_hz", "sum_rate_zf_bps_hz"};
 }
 
-std::vector<SummaryRow> summarize(const std::vector<TrialRecord>& records) {
+const Estimate* SummaryRow::metric(const std::string& name) const {
+  for (const auto& [n, e] : metrics) {
+    if (n == name) return &e;
+  }
+  return nullptr;
+}
+
+std::vector<SummaryRow> summarize(const std::vector<TrialRecord>& records, const std::vector<std::string>& extra) {
   std::vector<SummaryRow> rows;
   std::size_t i = 0;
   while (i < records.size()) {
     // Records of one point are contiguous; group each algorithm's trials.
     std::size_t j = i;
     while (j < records.size() && records[j].sweep == records[i].sweep && records[j].value == records[i].value) ++j;
-    std::vector<Algorithm> order;
+    std::vector<std::string> order;
     for (std::size_t k = i; k < j; ++k) {
       if (std::find(order.begin(), order.end(), records[k].algorithm) == order.end()) order.push_back(records[k].algorithm);
     }
-    for (const Algorithm a : order) {
+    std::vector<std::string> names = summary_metric_names();
+    names.insert(names.end(), extra.begin(), extra.end());
+    for (const std::string& a : order) {
       SummaryRow row{records[i].sweep, records[i].value, a, 0, 0.0, {}};
-      std::vector<std::vector<double>> columns(summary_metric_names().size());
+      std::vector<std::vector<double>> columns(names.size());
       int converged = 0;
       for (std::size_t k = i; k < j; ++k) {
         const TrialRecord& r = records[k];
@@ -213,10 +236,13 @@ std::vector<SummaryRow> summarize(const std::vector<TrialRecord>& records) {
                             r.probe_dist_m,    static_cast<double>(r.iterations), r.sinr_nv_db, r.sinr_zf_db,
                             r.sinr_mf_db,      r.mean_sinr_nv_db,  r.mean_sinr_zf_db,   r.mean_sinr_mf_db,
                             r.sum_rate_nv_bps_hz, r.sum_rate_zf_bps_hz};
-        for (std::size_t c = 0; c < columns.size(); ++c) columns[c].push_back(v[c]);
+        constexpr std::size_t kBuiltIn = sizeof v / sizeof v[0];
+        for (std::size_t c = 0; c < kBuiltIn; ++c) columns[c].push_back(v[c]);
+        for (std::size_t c = 0; c < extra.size(); ++c) {
+          columns[kBuiltIn + c].push_back(c < r.extra.size() ? r.extra[c] : std::nan(""));
+        }
       }
       row.converged_fraction = row.trials ? static_cast<double>(converged) / row.trials : 0.0;
-      const std::vector<std::string> names = summary_metric_names();
       for (std::size_t c = 0; c < columns.size(); ++c) row.metrics.emplace_back(names[c], estimate(columns[c]));
       rows.push_back(std::move(row));
     }
@@ -227,10 +253,13 @@ std::vector<SummaryRow> summarize(const std::vector<TrialRecord>& records) {
 
 void write_summary_csv(std::ostream& out, const std::vector<SummaryRow>& rows) {
   out << "sweep,value,algorithm,trials,converged_fraction";
-  for (const std::string& m : summary_metric_names()) out << "," << m << "_mean," << m << "_ci95," << m << "_n";
+  const std::vector<std::pair<std::string, Estimate>> no_metrics;
+  for (const auto& [m, e] : rows.empty() ? no_metrics : rows.front().metrics) {
+    out << "," << m << "_mean," << m << "_ci95," << m << "_n";
+  }
   out << "\n";
   for (const SummaryRow& r : rows) {
-    out << to_string(r.sweep) << "," << fmt(r.value) << "," << to_string(r.algorithm) << "," << r.trials << ","
+    out << r.sweep << "," << fmt(r.value) << "," << r.algorithm << "," << r.trials << ","
         << fmt(r.converged_fraction);
     for (const auto& [name, e] : r.metrics) out << "," << fmt(e.mean) << "," << fmt(e.ci95) << "," << e.n;
     out << "\n";
@@ -275,14 +304,15 @@ class Progress {
 };
 }  // namespace
 
-int run_experiment_app(const ExperimentOptions& options, std::ostream& out, std::ostream& err) {
+int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensions& extensions,
+                       std::ostream& out, std::ostream& err) {
   ExperimentSettings settings;
   try {
     IniConfig config = options.config_path.empty() ? IniConfig() : IniConfig::from_file(options.config_path);
     for (const std::string& o : options.overrides) config.set_override(o);
     if (options.trials > 0) config.set("experiment", "trials", std::to_string(options.trials));
     if (options.threads >= 0) config.set("experiment", "threads", std::to_string(options.threads));
-    settings = load_experiment_settings(config);
+    settings = load_experiment_settings(config, extensions);
   } catch (const InputError& e) {
     err << "losmimo-experiment: " << e.what() << "\n";
     return 2;
@@ -297,17 +327,18 @@ int run_experiment_app(const ExperimentOptions& options, std::ostream& out, std:
 
     std::ofstream trials_part(dir / "trials.csv.partial", std::ios::trunc);
     std::ofstream positions_part(dir / "positions.csv.partial", std::ios::trunc);
-    write_trials_header(trials_part);
+    const std::vector<std::string> extra = extra_metric_names(settings, extensions);
+    write_trials_header(trials_part, extra);
     write_positions_header(positions_part);
     const auto sink = [&](const std::vector<TrialRecord>& rows) {
-      write_trials_rows(trials_part, rows);
+      write_trials_rows(trials_part, rows, extra.size());
       write_positions_rows(positions_part, rows);
       trials_part.flush();
       positions_part.flush();
     };
     Progress progress(err);
     const auto t0 = std::chrono::steady_clock::now();
-    const ExperimentResults results = run_experiment(settings, threads, std::ref(progress), sink);
+    const ExperimentResults results = run_experiment(settings, extensions, threads, std::ref(progress), sink);
     const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     trials_part.close();
     positions_part.close();
@@ -318,10 +349,11 @@ int run_experiment_app(const ExperimentOptions& options, std::ostream& out, std:
     std::ostringstream traces, summary;
     write_traces_csv(traces, results.traces);
     write_file_atomically((dir / "traces.csv").string(), traces.str());
-    const std::vector<SummaryRow> rows = summarize(results.records);
+    const std::vector<SummaryRow> rows = summarize(results.records, extra);
     write_summary_csv(summary, rows);
     write_file_atomically((dir / "summary.csv").string(), summary.str());
-    const ReportOutcome report = write_figures_and_report(settings, results, rows, dir.string(), wall_s, threads);
+    const ReportOutcome report =
+        write_figures_and_report(settings, extensions, results, rows, dir.string(), wall_s, threads);
     for (const std::string& w : report.warnings) err << "losmimo-experiment: warning: " << w << "\n";
     out << "losmimo-experiment: " << results.records.size() << " trial rows, " << settings.trials
         << " trials per point, " << threads << " threads, " << std::fixed << std::setprecision(1) << wall_s

@@ -33,22 +33,17 @@ std::string fmt(double v, int precision = 3) {
   return buf;
 }
 
-const SummaryRow* find_row(const std::vector<SummaryRow>& rows, Sweep sweep, double value, Algorithm a) {
+const SummaryRow* find_row(const std::vector<SummaryRow>& rows, const std::string& sweep, double value,
+                           const std::string& a) {
   for (const SummaryRow& r : rows) {
     if (r.sweep == sweep && std::abs(r.value - value) < 1e-12 && r.algorithm == a) return &r;
   }
   return nullptr;
 }
 
-const Estimate* find_metric(const SummaryRow& row, const std::string& metric) {
-  for (const auto& [name, e] : row.metrics) {
-    if (name == metric) return &e;
-  }
-  return nullptr;
-}
 
 // Gnuplot data block per algorithm of a sweep: value and (mean, ci) of the given metrics.
-std::string sweep_dat(const std::vector<SummaryRow>& rows, Sweep sweep, const std::vector<Algorithm>& algorithms,
+std::string sweep_dat(const std::vector<SummaryRow>& rows, const std::string& sweep, const std::vector<Algorithm>& algorithms,
                       const std::vector<std::string>& metrics) {
   std::ostringstream o;
   for (const Algorithm a : algorithms) {
@@ -56,10 +51,10 @@ std::string sweep_dat(const std::vector<SummaryRow>& rows, Sweep sweep, const st
     for (const auto& m : metrics) o << " " << m << "_mean " << m << "_ci95";
     o << "\n";
     for (const SummaryRow& r : rows) {
-      if (r.sweep != sweep || r.algorithm != a) continue;
+      if (r.sweep != sweep || r.algorithm != to_string(a)) continue;
       o << r.value;
       for (const auto& m : metrics) {
-        const Estimate* e = find_metric(r, m);
+        const Estimate* e = r.metric(m);
         o << " " << (e && std::isfinite(e->mean) ? e->mean : NAN) << " "
           << (e && std::isfinite(e->ci95) ? e->ci95 : 0.0);
       }
@@ -93,41 +88,42 @@ const char* color(Algorithm a) {
 }  // namespace
 
 std::vector<PaperValue> paper_values() {
-  using A = Algorithm;
-  const Sweep L = Sweep::kSigmaLoc;
-  const Sweep T = Sweep::kSigmaAct;
+  const std::string R = "random", GD = "gd", BF = "bf", URA = "ura";
+  const std::string L = kSweepSigmaLoc;
+  const std::string T = kSweepSigmaAct;
   return {
-      {"Sec 4", "random start NV SINR [dB]", L, 0.0, A::kRandom, "sinr_nv_db", 0.3, 0.5, kWhySinr},
-      {"Sec 4", "random start ZF SINR [dB]", L, 0.0, A::kRandom, "sinr_zf_db", -5.5, 0.5, kWhySinr},
-      {"Sec 4", "MF SINR [dB]", L, 0.0, A::kRandom, "sinr_mf_db", 22.0, 0.5, kWhySinr},
-      {"Fig 1", "GD iterations to ICN 0.95", L, 0.0, A::kGd, "iterations", 78, 5, kWhyIterations},
-      {"Fig 1", "BF iterations to ICN 0.95", L, 0.0, A::kBf, "iterations", 63, 5, kWhyIterations},
-      {"Fig 2a", "GD distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, A::kGd, "dist_to_icn050_m", 5.0, 0.5, kWhyDistance},
-      {"Fig 2a", "GD distance to ICN 0.5 [m], sigma_loc 0.18", L, 0.18, A::kGd, "dist_to_icn050_m", 7.5, 0.5, kWhyDistance},
-      {"Fig 2a", "GD distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, A::kGd, "dist_to_icn095_m", 15.3, 0.5, kWhyDistance},
-      {"Fig 2a", "GD distance to ICN 0.95 [m], sigma_loc 0.18", L, 0.18, A::kGd, "dist_to_icn095_m", 19.5, 0.5, kWhyDistance},
-      {"Fig 2a", "BF distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, A::kBf, "dist_to_icn050_m", 8.3, 0.5, kWhyDistance},
-      {"Fig 2a", "BF distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, A::kBf, "dist_to_icn095_m", 20.2, 0.5, kWhyDistance},
-      {"Fig 2a", "URA distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, A::kUra, "dist_to_icn050_m", 10.3, 0.5, kWhyUra},
-      {"Fig 2a", "URA distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, A::kUra, "dist_to_icn095_m", 10.3, 0.5, kWhyUra},
-      {"Fig 2a", "URA distance to ICN 0.95 [m], sigma_loc 0.18", L, 0.18, A::kUra, "dist_to_icn095_m", 30.0, 0.5, kWhyUra},
-      {"Fig 2b", "BF final NV SINR [dB], sigma_loc 0.18", L, 0.18, A::kBf, "sinr_nv_db", 22.0, 0.5, kWhySinr},
-      {"Fig 2b", "GD final NV SINR [dB], sigma_loc 0", L, 0.0, A::kGd, "sinr_nv_db", 20.5, 0.5, kWhySinr},
-      {"Fig 2b", "GD final NV SINR [dB], sigma_loc 0.18", L, 0.18, A::kGd, "sinr_nv_db", 16.5, 0.5, kWhySinr},
-      {"Fig 2b", "GD final ZF SINR [dB], sigma_loc 0.18", L, 0.18, A::kGd, "sinr_zf_db", 19.0, 0.5, kWhySinr},
-      {"Fig 2b", "URA final NV SINR [dB], sigma_loc 0", L, 0.0, A::kUra, "sinr_nv_db", 22.0, 0.5, kWhyUra},
-      {"Fig 2b", "URA final NV SINR [dB], sigma_loc 0.18", L, 0.18, A::kUra, "sinr_nv_db", 15.5, 0.5, kWhyUra},
-      {"Fig 2b", "URA final ZF SINR [dB], sigma_loc 0.18", L, 0.18, A::kUra, "sinr_zf_db", 22.0, 0.5, kWhyUra},
-      {"Fig 3", "GD final NV SINR [dB], sigma_act 0.18", T, 0.18, A::kGd, "sinr_nv_db", 15.5, 0.5, kWhySinr},
-      {"Fig 3", "GD final ZF SINR [dB], sigma_act 0.18", T, 0.18, A::kGd, "sinr_zf_db", 21.0, 0.5, kWhySinr},
-      {"Fig 3", "BF final NV SINR [dB], sigma_act 0", T, 0.0, A::kBf, "sinr_nv_db", 22.0, 0.5, kWhySinr},
-      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.02", T, 0.02, A::kBf, "sinr_nv_db", 12.3, 0.5, kWhySinr},
-      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.04", T, 0.04, A::kBf, "sinr_nv_db", 3.0, 0.5, kWhySinr},
-      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.06", T, 0.06, A::kBf, "sinr_nv_db", 1.5, 0.5, kWhySinr},
+      {"Sec 4", "random start NV SINR [dB]", L, 0.0, R, "sinr_nv_db", 0.3, 0.5, kWhySinr},
+      {"Sec 4", "random start ZF SINR [dB]", L, 0.0, R, "sinr_zf_db", -5.5, 0.5, kWhySinr},
+      {"Sec 4", "MF SINR [dB]", L, 0.0, R, "sinr_mf_db", 22.0, 0.5, kWhySinr},
+      {"Fig 1", "GD iterations to ICN 0.95", L, 0.0, GD, "iterations", 78, 5, kWhyIterations},
+      {"Fig 1", "BF iterations to ICN 0.95", L, 0.0, BF, "iterations", 63, 5, kWhyIterations},
+      {"Fig 2a", "GD distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, GD, "dist_to_icn050_m", 5.0, 0.5, kWhyDistance},
+      {"Fig 2a", "GD distance to ICN 0.5 [m], sigma_loc 0.18", L, 0.18, GD, "dist_to_icn050_m", 7.5, 0.5, kWhyDistance},
+      {"Fig 2a", "GD distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, GD, "dist_to_icn095_m", 15.3, 0.5, kWhyDistance},
+      {"Fig 2a", "GD distance to ICN 0.95 [m], sigma_loc 0.18", L, 0.18, GD, "dist_to_icn095_m", 19.5, 0.5, kWhyDistance},
+      {"Fig 2a", "BF distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, BF, "dist_to_icn050_m", 8.3, 0.5, kWhyDistance},
+      {"Fig 2a", "BF distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, BF, "dist_to_icn095_m", 20.2, 0.5, kWhyDistance},
+      {"Fig 2a", "URA distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, URA, "dist_to_icn050_m", 10.3, 0.5, kWhyUra},
+      {"Fig 2a", "URA distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, URA, "dist_to_icn095_m", 10.3, 0.5, kWhyUra},
+      {"Fig 2a", "URA distance to ICN 0.95 [m], sigma_loc 0.18", L, 0.18, URA, "dist_to_icn095_m", 30.0, 0.5, kWhyUra},
+      {"Fig 2b", "BF final NV SINR [dB], sigma_loc 0.18", L, 0.18, BF, "sinr_nv_db", 22.0, 0.5, kWhySinr},
+      {"Fig 2b", "GD final NV SINR [dB], sigma_loc 0", L, 0.0, GD, "sinr_nv_db", 20.5, 0.5, kWhySinr},
+      {"Fig 2b", "GD final NV SINR [dB], sigma_loc 0.18", L, 0.18, GD, "sinr_nv_db", 16.5, 0.5, kWhySinr},
+      {"Fig 2b", "GD final ZF SINR [dB], sigma_loc 0.18", L, 0.18, GD, "sinr_zf_db", 19.0, 0.5, kWhySinr},
+      {"Fig 2b", "URA final NV SINR [dB], sigma_loc 0", L, 0.0, URA, "sinr_nv_db", 22.0, 0.5, kWhyUra},
+      {"Fig 2b", "URA final NV SINR [dB], sigma_loc 0.18", L, 0.18, URA, "sinr_nv_db", 15.5, 0.5, kWhyUra},
+      {"Fig 2b", "URA final ZF SINR [dB], sigma_loc 0.18", L, 0.18, URA, "sinr_zf_db", 22.0, 0.5, kWhyUra},
+      {"Fig 3", "GD final NV SINR [dB], sigma_act 0.18", T, 0.18, GD, "sinr_nv_db", 15.5, 0.5, kWhySinr},
+      {"Fig 3", "GD final ZF SINR [dB], sigma_act 0.18", T, 0.18, GD, "sinr_zf_db", 21.0, 0.5, kWhySinr},
+      {"Fig 3", "BF final NV SINR [dB], sigma_act 0", T, 0.0, BF, "sinr_nv_db", 22.0, 0.5, kWhySinr},
+      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.02", T, 0.02, BF, "sinr_nv_db", 12.3, 0.5, kWhySinr},
+      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.04", T, 0.04, BF, "sinr_nv_db", 3.0, 0.5, kWhySinr},
+      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.06", T, 0.06, BF, "sinr_nv_db", 1.5, 0.5, kWhySinr},
   };
 }
 
-ReportOutcome write_figures_and_report(const ExperimentSettings& s, const ExperimentResults& results,
+ReportOutcome write_figures_and_report(const ExperimentSettings& s, const ExperimentExtensions& extensions,
+                                       const ExperimentResults& results,
                                        const std::vector<SummaryRow>& rows, const std::string& out_dir,
                                        double wall_s, int threads) {
   ReportOutcome outcome;
@@ -138,7 +134,9 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
   }
 
   // Fig 1: traces.
-  {
+  std::vector<std::string> stems;
+  if (!results.traces.empty()) {
+    stems = {"fig1a", "fig1b"};
     std::ostringstream dat;
     std::vector<Algorithm> traced;
     for (const TracedRun& t : results.traces) {
@@ -171,9 +169,9 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
   }
 
   // Fig 2a: distances against sigma_loc.
-  {
+  if (s.sweep(kSweepSigmaLoc)) {
     write_file_atomically((dir / "fig2a.dat").string(),
-                          sweep_dat(rows, Sweep::kSigmaLoc, movers, {"dist_to_icn050_m", "dist_to_icn095_m"}));
+                          sweep_dat(rows, kSweepSigmaLoc, movers, {"dist_to_icn050_m", "dist_to_icn095_m"}));
     std::ostringstream g;
     g << gp_header("fig2a.png", "Fig 2a: mean distance per UAV to ICN 0.5 (solid) and 0.95 (dotted)",
                    "localization error sigma_{loc} [m]", "distance per UAV [m]")
@@ -189,9 +187,12 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
   }
 
   // Fig 2b and Fig 3: final SINR.
+  if (s.sweep(kSweepSigmaLoc)) stems.push_back("fig2a");
   for (const auto& [sweep, stem, xlabel] :
-       {std::tuple<Sweep, std::string, std::string>{Sweep::kSigmaLoc, "fig2b", "localization error sigma_{loc} [m]"},
-        {Sweep::kSigmaAct, "fig3", "actuation error sigma_{act} [m]"}}) {
+       {std::tuple<std::string, std::string, std::string>{kSweepSigmaLoc, "fig2b", "localization error sigma_{loc} [m]"},
+        {kSweepSigmaAct, "fig3", "actuation error sigma_{act} [m]"}}) {
+    if (!s.sweep(sweep)) continue;
+    stems.push_back(stem);
     write_file_atomically((dir / (stem + ".dat")).string(),
                           sweep_dat(rows, sweep, s.algorithms, {"sinr_nv_db", "sinr_zf_db", "sinr_mf_db"}));
     std::ostringstream g;
@@ -216,15 +217,19 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
       outcome.warnings.push_back("gnuplot not found: the fig*.gp scripts were written but not rendered "
                                  "(apt-get install gnuplot-nox, then run gnuplot fig*.gp in the output folder)");
     } else {
-      for (const char* stem : {"fig1a", "fig1b", "fig2a", "fig2b", "fig3"}) {
+      for (const std::string& stem : stems) {
         const std::string cmd = "cd '" + dir.string() + "' && gnuplot " + stem + ".gp 2> " + stem + ".log";
         if (std::system(cmd.c_str()) != 0) {
           outcome.warnings.push_back(std::string("gnuplot failed on ") + stem + ".gp (see " + stem + ".log)");
         } else {
-          fs::remove(dir / (std::string(stem) + ".log"));
+          fs::remove(dir / (stem + ".log"));
         }
       }
     }
+  }
+  for (const ExperimentExtension& e : extensions) {
+    if (!s.sweep(e.sweep) || !e.figures) continue;
+    for (std::string& w : e.figures(s, rows, out_dir)) outcome.warnings.push_back(std::move(w));
   }
 
   // report.md
@@ -237,11 +242,14 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
      << "(0.5 dB, 0.5 m, 5 iterations).\n\n"
      << "Figures: ![Fig 1a](fig1a.png) ![Fig 1b](fig1b.png) ![Fig 2a](fig2a.png) ![Fig 2b](fig2b.png) "
      << "![Fig 3](fig3.png)\n\n"
-     << "| figure | quantity | paper | measured | 95% CI | n | agrees |\n|---|---|---|---|---|---|---|\n";
+     ;
   std::vector<std::string> differences;
-  for (const PaperValue& p : paper_values()) {
+  const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
+  if (builtin) md << "| figure | quantity | paper | measured | 95% CI | n | agrees |\n|---|---|---|---|---|---|---|\n";
+  for (const PaperValue& p : builtin ? paper_values() : std::vector<PaperValue>{}) {
+    if (!s.sweep(p.sweep)) continue;
     const SummaryRow* row = find_row(rows, p.sweep, p.value, p.algorithm);
-    const Estimate* e = row ? find_metric(*row, p.metric) : nullptr;
+    const Estimate* e = row ? row->metric(p.metric) : nullptr;
     if (!e) {
       md << "| " << p.figure << " | " << p.quantity << " | " << fmt(p.paper, 1) << " | not run | | | |\n";
       continue;
@@ -263,23 +271,27 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
     }
   }
   // The abstract's claims: capacity ratio and SINR gain over random placement at the start.
-  const SummaryRow* random0 = find_row(rows, Sweep::kSigmaLoc, s.sigma_loc_values_m.front(), Algorithm::kRandom);
+  const SweepPoints* loc = s.sweep(kSweepSigmaLoc);
+  const SummaryRow* random0 = loc ? find_row(rows, kSweepSigmaLoc, loc->values.front(), "random") : nullptr;
   if (random0) {
-    md << "\n## The abstract's claims (at sigma_loc = " << s.sigma_loc_values_m.front() << ")\n\n"
+    md << "\n## The abstract's claims (at sigma_loc = " << loc->values.front() << ")\n\n"
        << "| algorithm | NV sum rate / random | NV SINR gain over random [dB] |\n|---|---|---|\n";
-    const Estimate* r_rate = find_metric(*random0, "sum_rate_nv_bps_hz");
-    const Estimate* r_sinr = find_metric(*random0, "sinr_nv_db");
+    const Estimate* r_rate = random0->metric("sum_rate_nv_bps_hz");
+    const Estimate* r_sinr = random0->metric("sinr_nv_db");
     for (const Algorithm a : movers) {
-      const SummaryRow* row = find_row(rows, Sweep::kSigmaLoc, s.sigma_loc_values_m.front(), a);
+      const SummaryRow* row = find_row(rows, kSweepSigmaLoc, loc->values.front(), to_string(a));
       if (!row) continue;
-      md << "| " << to_string(a) << " | " << fmt(find_metric(*row, "sum_rate_nv_bps_hz")->mean / r_rate->mean, 2)
-         << "x (paper: up to 6x) | " << fmt(find_metric(*row, "sinr_nv_db")->mean - r_sinr->mean, 1)
+      md << "| " << to_string(a) << " | " << fmt(row->metric("sum_rate_nv_bps_hz")->mean / r_rate->mean, 2)
+         << "x (paper: up to 6x) | " << fmt(row->metric("sinr_nv_db")->mean - r_sinr->mean, 1)
          << " (paper: >= 15) |\n";
     }
   }
-  md << "\n## Differences larger than the confidence interval\n\n";
-  if (differences.empty()) md << "None.\n";
+  if (builtin) md << "\n## Differences larger than the confidence interval\n\n";
+  if (builtin && differences.empty()) md << "None.\n";
   for (const std::string& d : differences) md << "- " << d << "\n";
+  for (const ExperimentExtension& e : extensions) {
+    if (s.sweep(e.sweep) && e.report_section) md << "\n" << e.report_section(s, rows);
+  }
   write_file_atomically((dir / "report.md").string(), md.str());
   return outcome;
 }

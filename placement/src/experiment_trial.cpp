@@ -30,82 +30,102 @@ class StayPlanner : public Planner {
   void iterate(Swarm& /*swarm*/, int /*iteration*/) override {}
 };
 
-Eigen::Matrix3Xd start_positions(const ExperimentSettings& s, int trial) {
-  std::mt19937_64 rng(derive_seed(s.seed, {0, static_cast<std::uint64_t>(trial)}));
-  return random_start_positions_m(s.placement.scenario, rng);
-}
-
 double mean_db(const Eigen::VectorXd& linear) {
   double sum = 0.0;
   for (Eigen::Index k = 0; k < linear.size(); ++k) sum += to_db(linear(k));
   return sum / linear.size();
 }
+
+std::uint64_t fnv1a(const std::string& text) {
+  std::uint64_t h = 14695981039346656037ULL;
+  for (const unsigned char c : text) h = (h ^ c) * 1099511628211ULL;
+  return h;
+}
+
+RunResult run_algorithm(const PlacementSettings& p, Algorithm a, const Eigen::Matrix3Xd& start, std::uint64_t seed,
+                        RunOptions run) {
+  const ChannelModel model(p.scenario);
+  Swarm swarm(model, start, p.errors, seed);
+  std::unique_ptr<Planner> planner = make_planner(p, a);
+  StayPlanner stay;
+  if (!planner) run.max_iterations = 0;
+  return run_placement(planner ? *planner : stay, swarm, run);
+}
 }  // namespace
 
-std::vector<TrialRecord> run_trial(const ExperimentSettings& s, Sweep sweep, int point, int trial) {
-  const std::vector<double>& values = sweep == Sweep::kSigmaLoc ? s.sigma_loc_values_m : s.sigma_act_values_m;
-  const double value = values.at(point);
-  PlacementSettings p = s.placement;
-  (sweep == Sweep::kSigmaLoc ? p.errors.sigma_loc_m : p.errors.sigma_act_m) = value;
-  const std::uint64_t start_seed = derive_seed(s.seed, {0, static_cast<std::uint64_t>(trial)});
-  const std::uint64_t seed = derive_seed(s.seed, {1, static_cast<std::uint64_t>(sweep),
-                                                  static_cast<std::uint64_t>(point),
-                                                  static_cast<std::uint64_t>(trial)});
-  const ChannelModel model(p.scenario);
-  const Eigen::Matrix3Xd start = start_positions(s, trial);
+std::uint64_t trial_start_seed(const ExperimentSettings& s, int trial) {
+  return derive_seed(s.seed, {0, static_cast<std::uint64_t>(trial)});
+}
 
+Eigen::Matrix3Xd trial_start_positions_m(const ExperimentSettings& s, int trial) {
+  std::mt19937_64 rng(trial_start_seed(s, trial));
+  return random_start_positions_m(s.placement.scenario, rng);
+}
+
+std::uint64_t trial_seed(const ExperimentSettings& s, const std::string& sweep, int point, int trial) {
+  return derive_seed(s.seed, {1, fnv1a(sweep), static_cast<std::uint64_t>(point), static_cast<std::uint64_t>(trial)});
+}
+
+TrialRecord make_record(const ExperimentSettings& s, const std::string& sweep, int point, int trial,
+                        const std::string& algorithm, const RunResult& r) {
+  const SweepPoints* points = s.sweep(sweep);
+  TrialRecord rec;
+  rec.sweep = sweep;
+  rec.value = points ? points->values.at(point) : kNaN;
+  rec.algorithm = algorithm;
+  rec.trial = trial;
+  rec.seed = trial_seed(s, sweep, point, trial);
+  rec.start_seed = trial_start_seed(s, trial);
+  rec.iterations = r.iterations;
+  rec.converged = r.converged();
+  rec.status = to_string(r.status);
+  const Scenario& scenario = s.placement.scenario;
+  const LinkMetrics m = evaluate_link(ChannelModel(scenario).matrix(r.final_m), scenario.noise_variance());
+  rec.final_icn = m.icn;
+  rec.dist_to_icn050_m = r.icn050.reached ? r.icn050.placement_dist_m : kNaN;
+  rec.dist_to_icn095_m = r.icn095.reached ? r.icn095.placement_dist_m : kNaN;
+  rec.dist_placement_m = r.placement_dist_m.mean();
+  rec.probe_dist_m = r.probe_dist_m.mean();
+  rec.dist_total_m = rec.dist_placement_m + rec.probe_dist_m;
+  rec.sinr_nv_db = to_db(m.sinr.nv(0));
+  rec.sinr_zf_db = to_db(m.sinr.zf(0));
+  rec.sinr_mf_db = to_db(m.sinr.mf(0));
+  rec.mean_sinr_nv_db = mean_db(m.sinr.nv);
+  rec.mean_sinr_zf_db = mean_db(m.sinr.zf);
+  rec.mean_sinr_mf_db = mean_db(m.sinr.mf);
+  rec.sum_rate_nv_bps_hz = m.sum_rate_nv_bps_hz;
+  rec.sum_rate_zf_bps_hz = m.sum_rate_zf_bps_hz;
+  rec.start_m = r.start_m;
+  rec.final_m = r.final_m;
+  return rec;
+}
+
+std::vector<TrialRecord> run_trial(const ExperimentSettings& s, const std::string& sweep, int point, int trial) {
+  PlacementSettings p = s.placement;
+  const double value = s.sweep(sweep)->values.at(point);
+  if (sweep == kSweepSigmaLoc) {
+    p.errors.sigma_loc_m = value;
+  } else if (sweep == kSweepSigmaAct) {
+    p.errors.sigma_act_m = value;
+  } else {
+    throw std::invalid_argument("run_trial: '" + sweep + "' is not a built-in sweep");
+  }
+  const Eigen::Matrix3Xd start = trial_start_positions_m(s, trial);
+  const std::uint64_t seed = trial_seed(s, sweep, point, trial);
   std::vector<TrialRecord> records;
   for (const Algorithm a : s.algorithms) {
-    Swarm swarm(model, start, p.errors, seed);
-    std::unique_ptr<Planner> planner = make_planner(p, a);
-    StayPlanner stay;
-    RunOptions run = p.run;
-    if (a == Algorithm::kRandom) run.max_iterations = 0;
-    const RunResult r = run_placement(planner ? *planner : stay, swarm, run);
-
-    TrialRecord rec;
-    rec.sweep = sweep;
-    rec.value = value;
-    rec.algorithm = a;
-    rec.trial = trial;
-    rec.seed = seed;
-    rec.start_seed = start_seed;
-    rec.iterations = r.iterations;
-    rec.converged = r.converged();
-    rec.status = to_string(r.status);
-    const LinkMetrics m = evaluate_link(model.matrix(r.final_m), p.scenario.noise_variance());
-    rec.final_icn = m.icn;
-    rec.dist_to_icn050_m = r.icn050.reached ? r.icn050.placement_dist_m : kNaN;
-    rec.dist_to_icn095_m = r.icn095.reached ? r.icn095.placement_dist_m : kNaN;
-    rec.dist_placement_m = r.placement_dist_m.mean();
-    rec.probe_dist_m = r.probe_dist_m.mean();
-    rec.dist_total_m = rec.dist_placement_m + rec.probe_dist_m;
-    rec.sinr_nv_db = to_db(m.sinr.nv(0));
-    rec.sinr_zf_db = to_db(m.sinr.zf(0));
-    rec.sinr_mf_db = to_db(m.sinr.mf(0));
-    rec.mean_sinr_nv_db = mean_db(m.sinr.nv);
-    rec.mean_sinr_zf_db = mean_db(m.sinr.zf);
-    rec.mean_sinr_mf_db = mean_db(m.sinr.mf);
-    rec.sum_rate_nv_bps_hz = m.sum_rate_nv_bps_hz;
-    rec.sum_rate_zf_bps_hz = m.sum_rate_zf_bps_hz;
-    rec.start_m = r.start_m;
-    rec.final_m = r.final_m;
-    records.push_back(std::move(rec));
+    records.push_back(make_record(s, sweep, point, trial, to_string(a), run_algorithm(p, a, start, seed, p.run)));
   }
   return records;
 }
 
 RunResult run_traced(const ExperimentSettings& s, Algorithm algorithm, int trial) {
-  const PlacementSettings& p = s.placement;
-  const ChannelModel model(p.scenario);
-  Swarm swarm(model, start_positions(s, trial), ErrorModel{},
-              derive_seed(s.seed, {2, static_cast<std::uint64_t>(trial)}));
-  std::unique_ptr<Planner> planner = make_planner(p, algorithm);
-  StayPlanner stay;
+  PlacementSettings p = s.placement;
+  p.errors = ErrorModel{};
   RunOptions run = p.run;
   run.trace_sinr = true;
-  if (!planner) run.max_iterations = 0;
-  return run_placement(planner ? *planner : stay, swarm, run);
+  return run_algorithm(p, algorithm, trial_start_positions_m(s, trial),
+                       derive_seed(s.seed, {2, static_cast<std::uint64_t>(trial)}), run);
 }
 
 }  // namespace losmimo::placement

@@ -52,7 +52,7 @@ lp::ExperimentOptions tiny(const std::string& out, int threads) {
 
 int run(const lp::ExperimentOptions& o, std::string* err_text = nullptr) {
   std::ostringstream out, err;
-  const int code = lp::run_experiment_app(o, out, err);
+  const int code = lp::run_experiment_app(o, {}, out, err);
   if (err_text) *err_text = err.str();
   return code;
 }
@@ -97,20 +97,25 @@ TEST_F(ExperimentApp, TinyConfig_WritesEveryOutputWithTheDocumentedColumns) {
 
 TEST_F(ExperimentApp, SeedsAreDerivedAndStartsAreShared) {
   const auto rows = read_csv(dir1_ / "trials.csv");
+  const lp::ExperimentSettings settings;  // the tiny run keeps the default seed
   std::map<std::string, std::string> start_seed_of_trial;
+  std::map<std::string, std::string> seed_of_point_trial;
   for (std::size_t i = 1; i < rows.size(); ++i) {
     const auto& r = rows[i];
-    const lp::Sweep sweep = r[0] == "sigma_loc_m" ? lp::Sweep::kSigmaLoc : lp::Sweep::kSigmaAct;
     const int point = std::stod(r[1]) == 0.0 ? 0 : 1;
-    const std::uint64_t trial = std::stoull(r[3]);
-    EXPECT_EQ(r[4], std::to_string(lp::derive_seed(2018, {1, static_cast<std::uint64_t>(sweep),
-                                                            static_cast<std::uint64_t>(point), trial})));
-    // Common random numbers: one start seed per trial for every sweep, point and algorithm.
+    const int trial = std::stoi(r[3]);
+    EXPECT_EQ(r[4], std::to_string(lp::trial_seed(settings, r[0], point, trial)));
+    EXPECT_EQ(r[21], std::to_string(lp::trial_start_seed(settings, trial)));
+    // Common random numbers: one start seed per trial for every sweep, point and algorithm,
+    // and one error seed per (sweep, point, trial) for every algorithm.
     auto [it, inserted] = start_seed_of_trial.emplace(r[3], r[21]);
     EXPECT_EQ(it->second, r[21]);
+    auto [jt, fresh] = seed_of_point_trial.emplace(r[0] + r[1] + "," + r[3], r[4]);
+    EXPECT_EQ(jt->second, r[4]);
     EXPECT_TRUE(r[6] == "0" || r[6] == "1");
   }
   EXPECT_EQ(start_seed_of_trial.size(), static_cast<std::size_t>(kTrials));
+  EXPECT_EQ(seed_of_point_trial.size(), static_cast<std::size_t>(2 * kPointsPerSweep * kTrials));
 }
 
 TEST_F(ExperimentApp, OneAndTwoThreads_GiveByteIdenticalResults) {
@@ -153,6 +158,7 @@ TEST(ExperimentConfig, BadValues_StopBeforeAnyWorkNamingTheKey) {
       {"gd.step=0", "step"},
       {"bf.step=-0.3", "step"},
       {"experiment.algorithms=gd, sa", "algorithms"},
+      {"experiment.sweeps=sigma_loc_m, beacon", "sweeps"},
   };
   for (const auto& [override_text, key] : cases) {
     lp::ExperimentOptions o;

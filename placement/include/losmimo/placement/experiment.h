@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "losmimo/placement/experiment_extension.h"
 #include "losmimo/placement/experiment_trial.h"
 
 namespace losmimo::placement {
@@ -35,13 +36,15 @@ struct ExperimentResults {
 using ProgressFn = std::function<void(int, int, const std::string&)>;
 
 // Runs everything; `row_sink` (optional) receives each finished point's records in order.
-ExperimentResults run_experiment(const ExperimentSettings& settings, int threads,
-                                 const ProgressFn& progress = {},
+// Sweeps not built in are run by the extension of the same name.
+ExperimentResults run_experiment(const ExperimentSettings& settings, const ExperimentExtensions& extensions,
+                                 int threads, const ProgressFn& progress = {},
                                  const std::function<void(const std::vector<TrialRecord>&)>& row_sink = {});
 
-// CSV writers (column layout documented in README and experiment_trial.h).
-void write_trials_header(std::ostream& out);
-void write_trials_rows(std::ostream& out, const std::vector<TrialRecord>& records);
+// CSV writers (column layout documented in README and experiment_trial.h); `extra` names the
+// extension columns appended after the built-in ones (empty cells as nan).
+void write_trials_header(std::ostream& out, const std::vector<std::string>& extra = {});
+void write_trials_rows(std::ostream& out, const std::vector<TrialRecord>& records, std::size_t num_extra = 0);
 void write_positions_header(std::ostream& out);
 void write_positions_rows(std::ostream& out, const std::vector<TrialRecord>& records);
 void write_traces_csv(std::ostream& out, const std::vector<TracedRun>& traces);
@@ -55,15 +58,16 @@ struct Estimate {
 Estimate estimate(const std::vector<double>& values);
 
 struct SummaryRow {
-  Sweep sweep;
-  double value;
-  Algorithm algorithm;
+  std::string sweep;
+  double value = 0.0;
+  std::string algorithm;
   int trials = 0;
   double converged_fraction = 0.0;
-  std::vector<std::pair<std::string, Estimate>> metrics;  // in summary_metric_names() order
+  std::vector<std::pair<std::string, Estimate>> metrics;  // summary_metric_names() + extra
+  const Estimate* metric(const std::string& name) const;  // nullptr if absent
 };
 std::vector<std::string> summary_metric_names();
-std::vector<SummaryRow> summarize(const std::vector<TrialRecord>& records);
+std::vector<SummaryRow> summarize(const std::vector<TrialRecord>& records, const std::vector<std::string>& extra = {});
 void write_summary_csv(std::ostream& out, const std::vector<SummaryRow>& rows);
 
 // Writes `content` to path atomically (temp file + rename).
@@ -77,6 +81,7 @@ struct ExperimentOptions {
   int trials = 0;    // > 0 overrides [experiment] trials
   int threads = -1;  // >= 0 overrides [experiment] threads
 };
-int run_experiment_app(const ExperimentOptions& options, std::ostream& out, std::ostream& err);
+int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensions& extensions,
+                       std::ostream& out, std::ostream& err);
 
 }  // namespace losmimo::placement

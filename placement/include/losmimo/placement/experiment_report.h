@@ -22,7 +22,9 @@ struct ReportOutcome {
   std::vector<std::string> warnings;
 };
 
-ReportOutcome write_figures_and_report(const ExperimentSettings& settings, const ExperimentResults& results,
+// Figures of sweeps that did not run are skipped; extensions add their figures and sections.
+ReportOutcome write_figures_and_report(const ExperimentSettings& settings, const ExperimentExtensions& extensions,
+                                       const ExperimentResults& results,
                                        const std::vector<SummaryRow>& summary, const std::string& out_dir,
                                        double wall_s, int threads);
 
@@ -30,9 +32,9 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& settings, const
 struct PaperValue {
   std::string figure;    // "Fig 2a"
   std::string quantity;  // human label
-  Sweep sweep;
+  std::string sweep;
   double value;          // sweep point
-  Algorithm algorithm;
+  std::string algorithm;
   std::string metric;    // a summary_metric_names() entry
   double paper;
   double resolution;     // how precisely the value can be read off the paper's figure
