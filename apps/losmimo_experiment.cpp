@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "losmimo/fusion/experiment_extensions.h"
 #include "losmimo/placement/experiment.h"
 
 int main(int argc, char** argv) {
@@ -18,5 +19,5 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-  return losmimo::placement::run_experiment_app(options, {}, std::cout, std::cerr);
+  return losmimo::placement::run_experiment_app(options, losmimo::fusion::experiment_extensions(), std::cout, std::cerr);
 }

@@ -1,0 +1,11 @@
+#pragma once
+// The sweep kinds fusion adds to `losmimo-experiment` (placement/experiment_extension.h): the
+// co-evaluation of estimators and placement. The app passes these to run_experiment_app.
+
+#include "losmimo/placement/experiment_extension.h"
+
+namespace losmimo::fusion {
+
+placement::ExperimentExtensions experiment_extensions();
+
+}  // namespace losmimo::fusion
