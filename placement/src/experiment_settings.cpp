@@ -40,8 +40,7 @@ std::vector<double> parse_sigma_list(const IniConfig& cfg, const std::string& ke
 
 std::string join(const std::vector<double>& v) {
   std::ostringstream o;
-  o << std::setprecision(17);
-  for (std::size_t i = 0; i < v.size(); ++i) o << (i ? ", " : "") << v[i];
+  for (std::size_t i = 0; i < v.size(); ++i) o << (i ? ", " : "") << format_double(v[i]);
   return o.str();
 }
 

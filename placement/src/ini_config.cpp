@@ -33,7 +33,10 @@ IniConfig IniConfig::from_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open config file");
   std::ostringstream text;
-  text << in.rdbuf();
+  // peek() first: an empty file is a valid (empty) config, while `text << rdbuf()` would fail on
+  // it; and a directory opens fine but fails here (it used to load as an empty config).
+  if (in.peek() != std::ifstream::traits_type::eof()) text << in.rdbuf();
+  if (in.bad() || text.fail()) throw InputError(path + ": cannot read config file");
   return from_string(text.str(), path);
 }
 
@@ -145,6 +148,7 @@ void IniConfig::require_known(const std::map<std::string, std::set<std::string>>
 std::string IniConfig::to_string() const {
   std::ostringstream out;
   for (const auto& [section, keys] : sections_) {
+    if (out.tellp() > 0) out << "\n";
     out << "[" << section << "]\n";
     for (const auto& [key, entry] : keys) out << key << " = " << entry.value << "\n";
   }

@@ -1,6 +1,7 @@
 #include "losmimo/placement/input_error.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -49,6 +50,12 @@ bool parse_bool(const std::string& text, const std::string& where) {
   if (t == "true" || t == "1" || t == "yes" || t == "on") return true;
   if (t == "false" || t == "0" || t == "no" || t == "off") return false;
   throw InputError(where + ": '" + text + "' is not a boolean (true/false)");
+}
+
+std::string format_double(double value) {
+  char buf[64];
+  const auto result = std::to_chars(buf, buf + sizeof buf, value);
+  return std::string(buf, result.ptr);
 }
 
 }  // namespace losmimo::placement

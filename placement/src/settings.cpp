@@ -103,23 +103,23 @@ std::string to_ini(const PlacementSettings& s) {
   const Scenario& sc = s.scenario;
   o << "[scenario]\n"
     << "bs_rows = " << sc.bs_rows << "\nbs_cols = " << sc.bs_cols
-    << "\nbs_spacing_m = " << sc.bs_spacing_m << "\ncarrier_hz = " << sc.carrier_hz
-    << "\nnum_uavs = " << sc.num_uavs << "\ncube_side_m = " << sc.cube_side_m
-    << "\ncube_center_x_m = " << sc.cube_center_m.x() << "\ncube_center_y_m = " << sc.cube_center_m.y()
-    << "\ncube_center_z_m = " << sc.cube_center_m.z() << "\nsnr_db = " << sc.snr_db
+    << "\nbs_spacing_m = " << format_double(sc.bs_spacing_m) << "\ncarrier_hz = " << format_double(sc.carrier_hz)
+    << "\nnum_uavs = " << sc.num_uavs << "\ncube_side_m = " << format_double(sc.cube_side_m)
+    << "\ncube_center_x_m = " << format_double(sc.cube_center_m.x()) << "\ncube_center_y_m = " << format_double(sc.cube_center_m.y())
+    << "\ncube_center_z_m = " << format_double(sc.cube_center_m.z()) << "\nsnr_db = " << format_double(sc.snr_db)
     << "\ngain_model = " << to_string(sc.gain_model) << "\n\n";
-  o << "[errors]\nsigma_loc_m = " << s.errors.sigma_loc_m << "\nsigma_act_m = " << s.errors.sigma_act_m
+  o << "[errors]\nsigma_loc_m = " << format_double(s.errors.sigma_loc_m) << "\nsigma_act_m = " << format_double(s.errors.sigma_act_m)
     << "\n\n";
-  o << "[placement]\ntarget_icn = " << s.run.target_icn << "\nmax_iterations = " << s.run.max_iterations
+  o << "[placement]\ntarget_icn = " << format_double(s.run.target_icn) << "\nmax_iterations = " << s.run.max_iterations
     << "\n\n";
   const auto b = [](bool v) { return v ? "true" : "false"; };
-  o << "[gd]\nstep = " << s.gd.step << "\ndecay = " << s.gd.decay << "\nmax_move_m = " << s.gd.max_move_m
+  o << "[gd]\nstep = " << format_double(s.gd.step) << "\ndecay = " << format_double(s.gd.decay) << "\nmax_move_m = " << format_double(s.gd.max_move_m)
     << "\nbacktracking = " << b(s.gd.backtracking) << "\nmax_halvings = " << s.gd.max_halvings
     << "\nescape = " << b(s.gd.escape) << "\nstall_window = " << s.gd.stall_window
-    << "\nstall_min_decrease = " << s.gd.stall_min_decrease << "\n\n";
-  o << "[bf]\nstep = " << s.bf.step << "\ndecay = " << s.bf.decay << "\ncontraction = " << s.bf.contraction
-    << "\nmin_step_m = " << s.bf.min_step_m << "\nescape = " << b(s.bf.escape)
-    << "\nstall_window = " << s.bf.stall_window << "\nstall_min_decrease = " << s.bf.stall_min_decrease
+    << "\nstall_min_decrease = " << format_double(s.gd.stall_min_decrease) << "\n\n";
+  o << "[bf]\nstep = " << format_double(s.bf.step) << "\ndecay = " << format_double(s.bf.decay) << "\ncontraction = " << format_double(s.bf.contraction)
+    << "\nmin_step_m = " << format_double(s.bf.min_step_m) << "\nescape = " << b(s.bf.escape)
+    << "\nstall_window = " << s.bf.stall_window << "\nstall_min_decrease = " << format_double(s.bf.stall_min_decrease)
     << "\n";
   return o.str();
 }

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "losmimo/placement/experiment_extension.h"
 #include "losmimo/placement/settings.h"
 
 namespace lp = losmimo::placement;
@@ -75,8 +76,12 @@ TEST(PlacementSettings, DefaultsRoundTripThroughIni) {
   EXPECT_EQ(lp::to_ini(lp::load_placement_settings(cfg)), text);
 }
 
-TEST(PlacementSettings, ShippedPaperIni_EqualsTheBuiltInDefaults) {
+TEST(PlacementSettings, ShippedPaperIni_IsTheBuiltInDefaultsWith500Trials) {
   const auto cfg = lp::IniConfig::from_file(std::string(LOSMIMO_SOURCE_DIR) + "/datasets/configs/paper.ini");
-  cfg.require_known(lp::placement_config_keys());
-  EXPECT_EQ(lp::to_ini(lp::load_placement_settings(cfg)), lp::to_ini(lp::PlacementSettings{}));
+  const lp::ExperimentSettings loaded = lp::load_experiment_settings(cfg);
+  EXPECT_EQ(lp::to_ini(loaded.placement), lp::to_ini(lp::PlacementSettings{}));
+  EXPECT_EQ(loaded.trials, 500);
+  lp::ExperimentSettings expected;
+  expected.trials = 500;
+  EXPECT_EQ(lp::to_ini(loaded), lp::to_ini(expected));
 }

@@ -19,4 +19,7 @@ long long parse_integer(const std::string& text, const std::string& where, long 
 // Parses true/false/1/0/yes/no/on/off.
 bool parse_bool(const std::string& text, const std::string& where);
 
+// The shortest decimal text that parses back to exactly `value` (0.3, not 0.29999999999999999).
+std::string format_double(double value);
+
 }  // namespace losmimo::placement
