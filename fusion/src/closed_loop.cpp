@@ -32,6 +32,15 @@ std::uint64_t derive_seed(std::uint64_t run_seed, Stream stream, int uav) {
   throw std::invalid_argument(msg.str());
 }
 
+// BruteForcePlanner::step_uav's probe directions (bf.cpp), for the observer's commanded move.
+Eigen::Vector3d bf_probe_direction(int probe) {
+  static const Eigen::Vector3d kDirections[7] = {
+      Eigen::Vector3d(0, 0, 0),  Eigen::Vector3d(1, 0, 0),  Eigen::Vector3d(-1, 0, 0),
+      Eigen::Vector3d(0, 1, 0),  Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(0, 0, 1),
+      Eigen::Vector3d(0, 0, -1)};
+  return probe >= 0 && probe < 7 ? kDirections[probe] : Eigen::Vector3d::Zero();
+}
+
 double nees(const localization::Belief& b, const Eigen::Vector3d& truth_m) {
   const Eigen::Vector3d e = b.mean_m - truth_m;
   return e.dot(b.cov_m2.ldlt().solve(e));
@@ -126,6 +135,11 @@ void ClosedLoopPlanner::start(placement::Swarm& swarm) {
   stall_.reset();
   escape_rank_ = 0;
 
+  if (observer_) {
+    std::vector<std::uint64_t> filter_seeds(nr);
+    for (int m = 0; m < nr; ++m) filter_seeds[m] = derive_seed(seed_, Stream::kFilter, m);
+    observer_->on_start(filter_seeds);
+  }
   const double prior_sigma_m = scenario_.cube_side_m / std::sqrt(12.0);  // uniform start cube
   for (int m = 0; m < nr; ++m) {
     localization::SimulatorConfig sim = config_.simulator;
@@ -153,17 +167,20 @@ void ClosedLoopPlanner::start(placement::Swarm& swarm) {
     uav.filter = localization::make_filter(config_.filter_kind, config_.filter, initial,
                                            derive_seed(seed_, Stream::kFilter, m));
     localization::Belief belief = initial;
+    std::optional<CsiMeasurement> observed_csi;
     if (config_.refine) {
       uav.refiner.emplace(scenario_, config_.refinement);
       std::vector<CsiMeasurement> csi;
       if (config_.refinement.use_csi)
         csi.push_back(simulate_csi(model_, q, scenario_.noise_variance(), uav.csi_rng));
+      if (observer_ && !csi.empty()) observed_csi = csi.front();
       uav.refiner->add_epoch({initial, std::nullopt, z0, std::move(csi)});
       const RefinementResult r = uav.refiner->refine();
       if (r.covariance_source == CovarianceSource::kDeadReckoning) ++modes_.refinement_covariance_fallbacks;
       belief = r.belief;
     }
     beliefs_[m] = belief;
+    if (observer_) observer_->on_epoch({0, m, q, std::nullopt, z0, observed_csi, initial, belief});
     const Eigen::Vector3d e = belief.mean_m - q, e_f = initial.mean_m - q;
     sums_.sq_m2 += e.squaredNorm();
     sums_.lateral_sq_m2 += e.tail<2>().squaredNorm();
@@ -187,16 +204,19 @@ void ClosedLoopPlanner::localize(placement::Swarm& swarm, int epoch) {
     uav.filter->step(d_meas, z);
     const localization::Belief filtered = uav.filter->belief();
     localization::Belief belief = filtered;
+    std::optional<CsiMeasurement> observed_csi;
     if (uav.refiner) {
       std::vector<CsiMeasurement> csi;
       if (config_.refinement.use_csi)
         csi.push_back(simulate_csi(model_, q, scenario_.noise_variance(), uav.csi_rng));
+      if (observer_ && !csi.empty()) observed_csi = csi.front();
       uav.refiner->add_epoch({filtered, d_meas, z, std::move(csi)});
       const RefinementResult r = uav.refiner->refine();
       if (r.covariance_source == CovarianceSource::kDeadReckoning) ++modes_.refinement_covariance_fallbacks;
       belief = r.belief;
     }
     beliefs_[m] = belief;
+    if (observer_) observer_->on_epoch({epoch, m, q, d_meas, z, observed_csi, filtered, belief});
 
     const Eigen::Vector3d e = belief.mean_m - q, e_f = filtered.mean_m - q;
     sums_.sq_m2 += e.squaredNorm();
@@ -235,14 +255,19 @@ void ClosedLoopPlanner::iterate(placement::Swarm& swarm, int iteration) {
   if (uavs_.size() != static_cast<std::size_t>(swarm.num_uavs()))
     throw std::logic_error("ClosedLoopPlanner::iterate before start()");
   if (iteration > 1) localize(swarm, iteration - 1);  // epoch 0 was start()'s
+  escape_iteration_ = iteration;
 
   const double b_bf = bf_options_.step * std::pow(bf_options_.decay, iteration - 1);
   std::string modes(swarm.num_uavs(), static_cast<char>(UavMode::kGd));
   for (int m = 0; m < swarm.num_uavs(); ++m) {
+    const Eigen::Vector3d q_before = swarm.true_positions_m().col(m);
+    Eigen::Vector3d commanded = Eigen::Vector3d::Zero();
     if (config_.fallback_to_bf && beliefs_[m].degraded) {
       Uav& uav = uavs_[m];
       const double b_m = std::max(b_bf * uav.bf_step_scale, std::min(b_bf, bf_options_.min_step_m));
-      const bool moved = placement::BruteForcePlanner::step_uav(swarm, m, b_m) != 0;
+      const int probe = placement::BruteForcePlanner::step_uav(swarm, m, b_m);
+      const bool moved = probe != 0;
+      if (observer_) commanded = b_m * bf_probe_direction(probe);
       uav.bf_step_scale = moved ? std::min(1.0, uav.bf_step_scale / bf_options_.contraction)
                                 : uav.bf_step_scale * bf_options_.contraction;
       modes[m] = static_cast<char>(UavMode::kBf);
@@ -251,8 +276,13 @@ void ClosedLoopPlanner::iterate(placement::Swarm& swarm, int iteration) {
     } else {
       // Back in GD the compass restarts from the full step at the next fallback.
       uavs_[m].bf_step_scale = 1.0;
-      swarm.move(m, plan_gd(swarm, m, iteration), placement::MotionKind::kPlacement);
+      commanded = plan_gd(swarm, m, iteration);
+      swarm.move(m, commanded, placement::MotionKind::kPlacement);
       ++modes_.gd_iterations[m];
+    }
+    if (observer_) {
+      observer_->on_move({iteration, m, static_cast<UavMode>(modes[m]), false, commanded,
+                          swarm.true_positions_m().col(m) - q_before});
     }
   }
   modes_.mode_trace.push_back(modes);
@@ -260,6 +290,7 @@ void ClosedLoopPlanner::iterate(placement::Swarm& swarm, int iteration) {
     stall_.reset();
     ++modes_.escapes;
   }
+  if (observer_) observer_->on_iteration_end(iteration, swarm);
 }
 
 // GradientDescentPlanner's escape (gd.h), from the belief mean; BF-mode UAVs are skipped.
@@ -288,7 +319,12 @@ bool ClosedLoopPlanner::try_escape(placement::Swarm& swarm) {
     }
   }
   if (best_f < (1.0 - gd_options_.stall_min_decrease) * f0) {
+    const Eigen::Vector3d q_before = swarm.true_positions_m().col(m);
     swarm.move(m, best_offset, placement::MotionKind::kPlacement);
+    if (observer_) {
+      observer_->on_move({escape_iteration_, m, UavMode::kGd, true, best_offset,
+                          swarm.true_positions_m().col(m) - q_before});
+    }
     escape_rank_ = 0;
     return true;
   }
@@ -317,13 +353,14 @@ ClosedLoopStats ClosedLoopPlanner::stats() const {
 
 ClosedLoopRun run_closed_loop(const placement::PlacementSettings& settings,
                               const Eigen::Matrix3Xd& start_m, const ClosedLoopConfig& config,
-                              std::uint64_t seed) {
+                              std::uint64_t seed, ClosedLoopObserver* observer) {
   placement::ErrorModel errors = settings.errors;
   errors.sigma_loc_m = 0.0;  // the beliefs replace the Gaussian localization model
   const placement::ChannelModel model(settings.scenario);  // the Swarm keeps a pointer to it
   placement::Swarm swarm(model, start_m, errors,
                          derive_seed(seed, Stream::kSwarm, 0));
   ClosedLoopPlanner planner(settings.scenario, settings.gd, settings.bf, config, seed);
+  planner.set_observer(observer);
   ClosedLoopRun out;
   out.run = placement::run_placement(planner, swarm, settings.run);
   out.stats = planner.stats();

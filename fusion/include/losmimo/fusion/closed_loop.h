@@ -118,6 +118,45 @@ struct ClosedLoopStats {
   int refinement_covariance_fallbacks = 0; // CovarianceSource::kDeadReckoning results
 };
 
+// Optional observer of a closed-loop run (e.g. the rawlog recorder, rawlog_recorder.h). It sees
+// copies of what every UAV measured and believed, and every move, in the order they happen:
+//   start():      on_start, then on_epoch(epoch 0) for every UAV;
+//   iteration i:  on_epoch(epoch i - 1) for every UAV (i > 1), on_move for every UAV, then
+//                 on_move for a successful stall escape, then on_iteration_end(i).
+// It cannot change the run: without an observer, and with any observer, the run is the same.
+struct EpochObservation {
+  int epoch = 0;
+  int uav = 0;
+  Eigen::Vector3d true_position_m = Eigen::Vector3d::Zero();
+  // Dead reckoning since the previous epoch, as the filter consumed it (none at epoch 0).
+  std::optional<Eigen::Vector3d> measured_displacement_m;
+  std::optional<localization::BeaconMeasurement> beacon;  // as the filter consumed it
+  std::optional<CsiMeasurement> csi;  // the row the refinement used (refine and use_csi only)
+  localization::Belief filter_belief;  // the filter's belief after this epoch
+  localization::Belief belief;         // what placement uses (refined, or the filter's)
+};
+
+struct MoveObservation {
+  int iteration = 0;
+  int uav = 0;
+  UavMode mode = UavMode::kGd;
+  bool escape = false;  // a stall escape (GD mode), after the iteration's regular moves
+  // GD: the planned move r; BF: b times the chosen probe direction (zero when it stays).
+  Eigen::Vector3d commanded_m = Eigen::Vector3d::Zero();
+  // True net displacement over the UAV's turn (BF probe flights' actuation errors included).
+  Eigen::Vector3d actual_m = Eigen::Vector3d::Zero();
+};
+
+class ClosedLoopObserver {
+ public:
+  virtual ~ClosedLoopObserver() = default;
+  // filter_seeds[m]: the seed of UAV m's filter (make_filter), for an exact offline replay.
+  virtual void on_start(const std::vector<std::uint64_t>& /*filter_seeds*/) {}
+  virtual void on_epoch(const EpochObservation& /*observation*/) {}
+  virtual void on_move(const MoveObservation& /*move*/) {}
+  virtual void on_iteration_end(int /*iteration*/, const placement::Swarm& /*swarm*/) {}
+};
+
 class ClosedLoopPlanner : public placement::Planner {
  public:
   ClosedLoopPlanner(const placement::Scenario& scenario, const placement::GdOptions& gd,
@@ -136,6 +175,8 @@ class ClosedLoopPlanner : public placement::Planner {
   // The beliefs placement uses now, one per UAV.
   const std::vector<localization::Belief>& beliefs() const { return beliefs_; }
   ClosedLoopStats stats() const;
+  // Not owned; nullptr (the default) for none. Set before start().
+  void set_observer(ClosedLoopObserver* observer) { observer_ = observer; }
 
  private:
   struct Uav;
@@ -154,6 +195,8 @@ class ClosedLoopPlanner : public placement::Planner {
   int escape_rank_ = 0;
   std::vector<Uav> uavs_;  // per-UAV sensors, filter, refiner (closed_loop.cpp)
   std::vector<localization::Belief> beliefs_;
+  ClosedLoopObserver* observer_ = nullptr;
+  int escape_iteration_ = 0;  // the iteration try_escape runs in (for the observer)
 
   // Accumulated statistics (see ClosedLoopStats).
   struct Sums {
@@ -172,8 +215,9 @@ struct ClosedLoopRun {
   placement::RunResult run;
   ClosedLoopStats stats;
 };
+// `observer` (optional, not owned) sees the run as ClosedLoopObserver describes.
 ClosedLoopRun run_closed_loop(const placement::PlacementSettings& settings,
                               const Eigen::Matrix3Xd& start_m, const ClosedLoopConfig& config,
-                              std::uint64_t seed);
+                              std::uint64_t seed, ClosedLoopObserver* observer = nullptr);
 
 }  // namespace losmimo::fusion

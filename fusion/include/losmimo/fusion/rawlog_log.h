@@ -1,0 +1,68 @@
+#pragma once
+// A rawlog read into per-epoch, per-UAV records (what losmimo-replay consumes).
+//
+// losmimo's own logs (first object CONFIG with the "losmimo-rawlog" magic, rawlog_format.h):
+// objects are grouped by the EPOCH_END marks. A mark is accepted only if the number of objects
+// before it and the FNV-1a digest of the bytes since the previous mark match; the epochs up to
+// the last accepted mark are used, anything after it (a partial epoch, a corrupted one) is not,
+// and the log says where and why. END_OF_LOG, checked the same way, makes the log complete.
+// Other rawlogs ("foreign"): observations are assigned to UAVs by a "UAVnn_" label prefix (UAV 0
+// otherwise). Usable: CObservationBearingRange (the first measurement; yaw = azimuth,
+// pitch = -elevation), dead reckoning as CObservationOdometry (2-D, cumulative: the displacement
+// is the difference of consecutive readings, z = 0), a "UAVnn_DR" CObservationRobotPose
+// (displacement), or CActionRobotMovement2D/3D inside a CActionCollection (pose change taken
+// as the displacement in the BS frame), and ground truth as a CObservationRobotPose labelled
+// "UAVnn_TRUTH" or "GROUND_TRUTH". Each displacement opens the UAV's next epoch; beacons and
+// truth attach to the current epoch. CSensoryFrame contents are handled one by one. Anything
+// else is counted in `skipped` by class and label, and ignored.
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "losmimo/fusion/csi.h"
+#include "losmimo/fusion/rawlog_mission.h"
+#include "losmimo/fusion/rawlog_reader.h"
+#include "losmimo/localization/measurements.h"
+
+namespace losmimo::fusion {
+
+// One UAV at one epoch.
+struct LoggedUavEpoch {
+  std::optional<Eigen::Vector3d> truth_m;
+  std::optional<Eigen::Vector3d> displacement_m;  // dead reckoning since the previous epoch
+  std::optional<localization::BeaconMeasurement> beacon;
+  bool beacon_exact = false;  // from BEACON64 (double), else from the float bearing-range
+  std::optional<CsiMeasurement> csi;
+  std::optional<localization::Belief> filter_belief;   // logged (mean, cov only)
+  std::optional<localization::Belief> refined_belief;  // logged (refine only)
+};
+
+struct MissionLog {
+  bool ours = false;                    // written by losmimo-record
+  std::optional<MissionConfig> config;  // from CONFIG (ours)
+  std::string config_text;              // the INI as logged
+  std::vector<std::uint64_t> filter_seeds;
+  int num_uavs = 0;
+  std::vector<std::vector<LoggedUavEpoch>> epochs;  // [epoch][uav]
+  std::vector<std::string> modes;                   // [epoch]: 'G', 'B', '-' per UAV (ours)
+  std::optional<int> final_truth_epoch;             // epoch index of the final positions
+  std::optional<Eigen::Matrix3Xd> final_truth_m;
+  bool complete = false;                            // END_OF_LOG present and verified
+  std::map<std::string, std::int64_t> used;         // "class label" -> count
+  std::map<std::string, std::int64_t> skipped;      // "class label" -> count
+  RawlogReadStatus read_status;
+  std::string integrity_error;  // first failed check of a mark (empty: none)
+  std::int64_t objects_after_last_mark = 0;  // read but not used (ours)
+  std::string stop_description() const;      // where and why the usable data ended
+};
+
+// Reads the whole rawlog. Throws placement::InputError if the log is ours but its CONFIG is
+// not a valid mission config, or if no object at all could be read.
+MissionLog load_mission_log(RawlogReader& reader);
+
+}  // namespace losmimo::fusion

@@ -1,0 +1,50 @@
+#include "losmimo/fusion/rawlog_format.h"
+
+#include <cctype>
+#include <cstdio>
+
+namespace losmimo::fusion {
+
+namespace {
+constexpr const char* kStreamNames[] = {"TRUTH", "DR",     "BEACON",  "BEACON64",
+                                        "CSI",   "BELIEF", "REFINED", "MOVE"};
+constexpr int kNumStreams = sizeof(kStreamNames) / sizeof(kStreamNames[0]);
+}  // namespace
+
+std::string to_string(UavStream stream) { return kStreamNames[static_cast<int>(stream)]; }
+
+std::string uav_label(int uav, UavStream stream) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "UAV%02d_", uav);
+  return buf + to_string(stream);
+}
+
+std::optional<UavLabel> parse_uav_label(const std::string& label) {
+  if (label.size() < 6 || label.compare(0, 3, "UAV") != 0) return std::nullopt;
+  std::size_t i = 3;
+  long uav = 0;
+  while (i < label.size() && std::isdigit(static_cast<unsigned char>(label[i]))) {
+    if (i - 3 >= 5) return std::nullopt;  // uav < 100000
+    uav = uav * 10 + (label[i] - '0');
+    ++i;
+  }
+  if (i == 3 || i >= label.size() || label[i] != '_' || i + 1 == label.size()) return std::nullopt;
+  UavLabel out;
+  out.uav = static_cast<int>(uav);
+  out.suffix = label.substr(i + 1);
+  for (int s = 0; s < kNumStreams; ++s) {
+    if (out.suffix == kStreamNames[s]) out.stream = static_cast<UavStream>(s);
+  }
+  return out;
+}
+
+std::uint64_t fnv1a64(const void* data, std::size_t size, std::uint64_t hash) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < size; ++i) {
+    hash ^= p[i];
+    hash *= 0x100000001b3ULL;
+  }
+  return hash;
+}
+
+}  // namespace losmimo::fusion
