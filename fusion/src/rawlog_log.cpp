@@ -121,6 +121,7 @@ class Builder {
       return;
     }
     digest_ = fnv1a64(o.bytes.data(), o.bytes.size(), digest_);
+    ++labels_seen_[o.index == 0 ? std::string(kLabelConfig) : (obs ? obs->sensorLabel : o.class_name)];
     if (o.index == 0) return;  // CONFIG
     pending_.push_back({o.class_name, o.object});
   }
@@ -149,6 +150,7 @@ class Builder {
       if (error.empty() && !end && epoch != expected)
         error = "epoch " + std::to_string(epoch) + " where " + std::to_string(expected) + " was expected";
     }
+    if (error.empty() && end) error = check_counts(keys);
     if (!error.empty()) {
       log_.integrity_error = std::string(end ? kLabelEndOfLog : kLabelEpochEnd) + " mark at object " + std::to_string(o.index) + ": " + error;
       log_.objects_after_last_mark = static_cast<std::int64_t>(pending_.size()) + 1;
@@ -160,8 +162,27 @@ class Builder {
       log_.complete = true;
     } else {
       commit_epoch(get("modes"));
+      ++labels_seen_[kLabelEpochEnd];
     }
     pending_.clear();
+  }
+
+  // END_OF_LOG: the epochs, marks and per-label counts it lists against what was read.
+  std::string check_counts(const std::map<std::string, std::string>& keys) const {
+    const std::string n_epochs = std::to_string(log_.epochs.size());
+    if (keys.count("epochs") == 0 || keys.at("epochs") != n_epochs) return "epochs != " + n_epochs;
+    if (keys.count("marks") == 0 || keys.at("marks") != n_epochs) return "marks != " + n_epochs;
+    std::map<std::string, std::int64_t> listed;
+    for (const auto& [k, v] : keys) {
+      if (k.rfind("count.", 0) != 0) continue;
+      try {
+        listed[k.substr(6)] = std::stoll(v);
+      } catch (const std::exception&) {
+        return k + " = '" + v + "': not a count";
+      }
+    }
+    if (listed != labels_seen_) return "the per-label counts differ from the objects read";
+    return "";
   }
 
   void commit_epoch(const std::string& modes) {
@@ -333,6 +354,7 @@ class Builder {
   MissionLog& log_;
   std::uint64_t digest_ = kFnvOffset;
   std::vector<Pending> pending_;
+  std::map<std::string, std::int64_t> labels_seen_;  // ours, for END_OF_LOG's counts
   std::vector<int> foreign_epoch_;
   std::vector<std::optional<Eigen::Vector3d>> last_odometry_;
 };

@@ -97,7 +97,7 @@ TEST(RawlogCorruption, TruncatedAtManyOffsets_PrefixProcessedAndReported) {
 }
 
 TEST(RawlogCorruption, RandomBytesCorrupted_StopsCleanlyWithAReason) {
-  constexpr int kCases = 40;
+  constexpr int kCases = 200;
   const Recorded& r = recorded();
   std::mt19937_64 rng(20261123);
   int stopped_early = 0, integrity_caught = 0;
