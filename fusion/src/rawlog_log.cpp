@@ -24,6 +24,7 @@ namespace {
 using mrpt::obs::CObservation;
 constexpr int kMaxUavs = 4096;      // placement's num_uavs bound
 constexpr int kMaxEpochs = 10'000'000;
+constexpr int kMaxForeignUavs = 256;  // foreign labels above UAV255_ are skipped
 
 // "key = value" lines of a mark's text.
 std::map<std::string, std::string> parse_keys(const std::string& text) {
@@ -186,6 +187,14 @@ class Builder {
   }
 
   void commit_epoch(const std::string& modes) {
+    // Every UAV writes at least TRUTH, CSI and BELIEF per epoch: fewer records than UAVs is a
+    // damaged log (and the check keeps memory proportional to the file).
+    if (pending_.size() < static_cast<std::size_t>(log_.num_uavs)) {
+      log_.integrity_error = "EPOCH_END mark of epoch " + std::to_string(log_.epochs.size()) + ": " +
+                             std::to_string(pending_.size()) + " records for " + std::to_string(log_.num_uavs) + " UAVs";
+      log_.objects_after_last_mark = static_cast<std::int64_t>(pending_.size()) + 1;
+      return;
+    }
     std::vector<LoggedUavEpoch> row(log_.num_uavs);
     for (const Pending& p : pending_) {
       const auto* obs = dynamic_cast<const CObservation*>(p.object.get());
@@ -283,7 +292,8 @@ class Builder {
     log_.num_uavs = std::max(log_.num_uavs, uav + 1);
     const int k = foreign_epoch_[uav];
     while (static_cast<int>(log_.epochs.size()) <= k) log_.epochs.emplace_back();
-    for (auto& row : log_.epochs) row.resize(log_.num_uavs);
+    // Rows stay ragged (a row grows only to the UAVs seen in it): memory follows the objects.
+    if (static_cast<int>(log_.epochs[k].size()) <= uav) log_.epochs[k].resize(uav + 1);
     return log_.epochs[k][uav];
   }
 
@@ -323,7 +333,11 @@ class Builder {
     const auto* obs = dynamic_cast<const CObservation*>(&obj);
     const std::string label = obs ? obs->sensorLabel : "";
     const auto parsed = parse_uav_label(label);
-    const int uav = parsed && parsed->uav < kMaxUavs ? parsed->uav : 0;
+    if (parsed && parsed->uav >= kMaxForeignUavs) {
+      count(log_.skipped, class_name, label);
+      return;
+    }
+    const int uav = parsed ? parsed->uav : 0;
     bool used = false;
     if (const auto* b = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obj)) {
       used = apply_bearing(current(uav), *b);

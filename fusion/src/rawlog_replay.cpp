@@ -90,7 +90,8 @@ ReplayResult replay_mission(const MissionLog& log, const ReplayOptions& options)
     double e_sq = 0.0, e_lat = 0.0, e_nees = 0.0;
     int e_n = 0;
     for (int m = 0; m < nr; ++m) {
-      const LoggedUavEpoch& in = log.epochs[k][m];
+      static const LoggedUavEpoch kNothing;  // foreign rows are ragged (rawlog_log.cpp)
+      const LoggedUavEpoch& in = m < static_cast<int>(log.epochs[k].size()) ? log.epochs[k][m] : kNothing;
       std::optional<localization::BeaconMeasurement> z = in.beacon;
       localization::Belief filtered;
       if (k == 0) {

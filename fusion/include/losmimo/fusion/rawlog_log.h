@@ -7,7 +7,7 @@
 // the last accepted mark are used, anything after it (a partial epoch, a corrupted one) is not,
 // and the log says where and why. END_OF_LOG, checked the same way, makes the log complete.
 // Other rawlogs ("foreign"): observations are assigned to UAVs by a "UAVnn_" label prefix (UAV 0
-// otherwise). Usable: CObservationBearingRange (the first measurement; yaw = azimuth,
+// otherwise; labels above UAV255_ are skipped). Usable: CObservationBearingRange (the first measurement; yaw = azimuth,
 // pitch = -elevation), dead reckoning as CObservationOdometry (2-D, cumulative: the displacement
 // is the difference of consecutive readings, z = 0), a "UAVnn_DR" CObservationRobotPose
 // (displacement), or CActionRobotMovement2D/3D inside a CActionCollection (pose change taken
@@ -48,7 +48,8 @@ struct MissionLog {
   std::string config_text;              // the INI as logged
   std::vector<std::uint64_t> filter_seeds;
   int num_uavs = 0;
-  std::vector<std::vector<LoggedUavEpoch>> epochs;  // [epoch][uav]
+  // [epoch][uav]; ours: num_uavs per row; foreign: a row may be shorter (UAVs not seen in it).
+  std::vector<std::vector<LoggedUavEpoch>> epochs;
   std::vector<std::string> modes;                   // [epoch]: 'G', 'B', '-' per UAV (ours)
   std::optional<int> final_truth_epoch;             // epoch index of the final positions
   std::optional<Eigen::Matrix3Xd> final_truth_m;
