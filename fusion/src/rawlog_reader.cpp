@@ -1,6 +1,6 @@
 #include "losmimo/fusion/rawlog_reader.h"
 
-#include <zlib.h>
+#include "losmimo/fusion/rawlog_source.h"
 
 #include <algorithm>
 #include <cctype>
@@ -27,83 +27,6 @@ constexpr std::size_t kChunk = 64 * 1024;
 struct Stop {
   RawlogStop kind;
   std::string reason;
-};
-
-// Uncompressed bytes from a file (gzip or plain) or from memory (gzip or plain).
-class ByteSource {
- public:
-  virtual ~ByteSource() = default;
-  // Up to n bytes; 0 at a clean end. Throws Stop on a truncated or corrupt stream.
-  virtual std::size_t read(std::uint8_t* dst, std::size_t n) = 0;
-};
-
-class GzFileSource : public ByteSource {
- public:
-  explicit GzFileSource(const std::string& path) : path_(path), file_(gzopen(path.c_str(), "rb")) {
-    if (!file_) throw std::runtime_error(path + ": cannot open rawlog");
-  }
-  ~GzFileSource() override { gzclose(file_); }
-  std::size_t read(std::uint8_t* dst, std::size_t n) override {
-    const int got = gzread(file_, dst, static_cast<unsigned>(n));
-    int code = Z_OK;
-    const char* msg = gzerror(file_, &code);
-    if (got < 0 || (got == 0 && code != Z_OK)) {
-      throw Stop{code == Z_BUF_ERROR ? RawlogStop::kTruncated : RawlogStop::kCorrupt,
-                 std::string("gzip: ") + (msg ? msg : "read error")};
-    }
-    return static_cast<std::size_t>(got);
-  }
-
- private:
-  std::string path_;
-  gzFile file_;
-};
-
-class MemorySource : public ByteSource {
- public:
-  explicit MemorySource(std::string bytes) : bytes_(std::move(bytes)) {
-    gzip_ = bytes_.size() >= 2 && static_cast<unsigned char>(bytes_[0]) == 0x1f &&
-            static_cast<unsigned char>(bytes_[1]) == 0x8b;
-    if (gzip_) {
-      std::memset(&z_, 0, sizeof z_);
-      if (inflateInit2(&z_, 15 + 16) != Z_OK) throw std::runtime_error("zlib: inflateInit2 failed");
-      z_.next_in = reinterpret_cast<Bytef*>(bytes_.data());
-      z_.avail_in = static_cast<uInt>(bytes_.size());
-    }
-  }
-  ~MemorySource() override {
-    if (gzip_) inflateEnd(&z_);
-  }
-  std::size_t read(std::uint8_t* dst, std::size_t n) override {
-    if (!gzip_) {
-      const std::size_t k = std::min(n, bytes_.size() - pos_);
-      std::memcpy(dst, bytes_.data() + pos_, k);
-      pos_ += k;
-      return k;
-    }
-    if (ended_) return 0;
-    z_.next_out = dst;
-    z_.avail_out = static_cast<uInt>(n);
-    while (z_.avail_out > 0) {
-      const int rc = inflate(&z_, Z_NO_FLUSH);
-      if (rc == Z_STREAM_END) {
-        ended_ = true;  // trailing bytes after the gzip member are ignored, as gzread does
-        break;
-      }
-      if (rc == Z_BUF_ERROR && z_.avail_in == 0) {
-        if (z_.avail_out == n) throw Stop{RawlogStop::kTruncated, "gzip: unexpected end of file"};
-        break;  // return what we have; the next call reports the truncation
-      }
-      if (rc != Z_OK) throw Stop{RawlogStop::kCorrupt, std::string("gzip: ") + (z_.msg ? z_.msg : "data error")};
-    }
-    return n - z_.avail_out;
-  }
-
- private:
-  std::string bytes_;
-  bool gzip_ = false, ended_ = false;
-  std::size_t pos_ = 0;
-  z_stream z_{};
 };
 
 // Serialized sizes of the fixed-size nested objects, measured from MRPT itself.
@@ -175,7 +98,7 @@ std::string RawlogReadStatus::describe() const {
 
 struct RawlogReader::Impl {
   RawlogReaderOptions options;
-  std::unique_ptr<ByteSource> source;
+  std::unique_ptr<RawlogByteSource> source;
   std::vector<std::uint8_t> buf;
   std::size_t head = 0;         // start of the current object in buf
   std::uint64_t buf_base = 0;   // absolute offset of buf[0]
@@ -196,9 +119,9 @@ struct RawlogReader::Impl {
       std::size_t got = 0;
       try {
         got = source->read(buf.data() + old, kChunk);
-      } catch (...) {
+      } catch (const RawlogSourceError& e) {
         buf.resize(old);
-        throw;
+        throw Stop{e.truncated ? RawlogStop::kTruncated : RawlogStop::kCorrupt, e.what()};
       }
       buf.resize(old + got);
       if (got == 0) source_ended = true;
@@ -401,7 +324,7 @@ RawlogReader RawlogReader::open_file(const std::string& path, const RawlogReader
   calibration();
   auto impl = std::make_unique<Impl>();
   impl->options = options;
-  impl->source = std::make_unique<GzFileSource>(path);
+  impl->source = open_rawlog_file_source(path);
   return RawlogReader(std::move(impl));
 }
 
@@ -409,7 +332,7 @@ RawlogReader RawlogReader::from_bytes(std::string bytes, const RawlogReaderOptio
   calibration();
   auto impl = std::make_unique<Impl>();
   impl->options = options;
-  impl->source = std::make_unique<MemorySource>(std::move(bytes));
+  impl->source = make_rawlog_memory_source(std::move(bytes));
   return RawlogReader(std::move(impl));
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <memory>
 #include <ostream>
 #include <random>
 #include <sstream>
@@ -34,19 +35,17 @@ std::string hex64(std::uint64_t v) {
   return o.str();
 }
 
+struct GzClose {
+  void operator()(gzFile_s* f) const { gzclose(f); }
+};
+
 // The gzip file and the bookkeeping behind the integrity marks.
 class RawlogWriter {
  public:
-  RawlogWriter(const std::string& path, int level) : path_(path) {
-    const std::string mode = "wb" + std::to_string(std::clamp(level, 1, 9));
-    file_ = gzopen(path.c_str(), mode.c_str());
+  RawlogWriter(const std::string& path, int level)
+      : path_(path), file_(gzopen(path.c_str(), ("wb" + std::to_string(std::clamp(level, 1, 9))).c_str())) {
     if (!file_) throw std::runtime_error(path + ": cannot open for writing");
   }
-  ~RawlogWriter() {
-    if (file_) gzclose(file_);
-  }
-  RawlogWriter(const RawlogWriter&) = delete;
-  RawlogWriter& operator=(const RawlogWriter&) = delete;
 
   void write(const mrpt::obs::CObservation& obs) {
     mrpt::io::CMemoryStream mem;
@@ -54,7 +53,7 @@ class RawlogWriter {
     archive << obs;
     const auto n = static_cast<std::size_t>(mem.getTotalBytesCount());
     digest_ = fnv1a64(mem.getRawBufferData(), n, digest_);
-    if (n > 0 && gzwrite(file_, mem.getRawBufferData(), static_cast<unsigned>(n)) != static_cast<int>(n))
+    if (n > 0 && gzwrite(file_.get(), mem.getRawBufferData(), static_cast<unsigned>(n)) != static_cast<int>(n))
       throw std::runtime_error(path_ + ": write failed");
     bytes_ += n;
     ++objects_;
@@ -73,12 +72,11 @@ class RawlogWriter {
     digest_ = kFnvOffset;
     write(c);
     digest_ = kFnvOffset;  // the mark itself is not part of the next digest
-    if (gzflush(file_, Z_SYNC_FLUSH) != Z_OK) throw std::runtime_error(path_ + ": flush failed");
+    if (gzflush(file_.get(), Z_SYNC_FLUSH) != Z_OK) throw std::runtime_error(path_ + ": flush failed");
   }
 
   void close() {
-    const int rc = gzclose(file_);
-    file_ = nullptr;
+    const int rc = gzclose(file_.release());
     if (rc != Z_OK) throw std::runtime_error(path_ + ": close failed");
   }
 
@@ -88,7 +86,7 @@ class RawlogWriter {
 
  private:
   std::string path_;
-  gzFile file_ = nullptr;
+  std::unique_ptr<gzFile_s, GzClose> file_;
   std::uint64_t digest_ = kFnvOffset;
   std::int64_t objects_ = 0;
   std::uint64_t bytes_ = 0;
