@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <sstream>
 
 #include <mrpt/obs/CActionCollection.h>
@@ -50,6 +51,28 @@ std::string hex64(std::uint64_t v) {
   o.fill('0');
   o << v;
   return o.str();
+}
+
+// A decimal uint64 (surrounding spaces allowed); InputError otherwise.
+std::uint64_t parse_u64(const std::string& text, const std::string& where) {
+  const auto b = text.find_first_not_of(' ');
+  const auto e = text.find_last_not_of(' ');
+  const std::string t = b == std::string::npos ? "" : text.substr(b, e - b + 1);
+  std::uint64_t v = 0;
+  for (char c : t) {
+    const unsigned d = static_cast<unsigned>(c - '0');
+    if (d > 9 || v > (std::numeric_limits<std::uint64_t>::max() - d) / 10)
+      throw placement::InputError(where + ": '" + t + "' is not a 64-bit unsigned integer");
+    v = v * 10 + d;
+  }
+  if (t.empty()) throw placement::InputError(where + ": empty entry");
+  return v;
+}
+
+bool all_finite(const std::vector<double>& v) {
+  for (double x : v)
+    if (!std::isfinite(x)) return false;
+  return true;
 }
 
 localization::Belief belief_of(const mrpt::obs::CObservationRobotPose& o) {
@@ -101,9 +124,8 @@ class Builder {
     if (log_.num_uavs != log_.config->placement.scenario.num_uavs)
       throw placement::InputError("rawlog CONFIG: [rawlog] num_uavs differs from [scenario] num_uavs");
     std::istringstream seeds(raw.get_string("rawlog", "filter_seeds", ""));
-    for (std::string s; std::getline(seeds, s, ',');) {
-      log_.filter_seeds.push_back(static_cast<std::uint64_t>(
-          std::stoull(s.substr(s.find_first_not_of(' ')))));
+    for (std::string s; std::getline(seeds, s, ',') && log_.filter_seeds.size() <= kMaxUavs;) {
+      log_.filter_seeds.push_back(parse_u64(s, "rawlog CONFIG [rawlog] filter_seeds"));
     }
     if (static_cast<int>(log_.filter_seeds.size()) != log_.num_uavs)
       throw placement::InputError("rawlog CONFIG: filter_seeds has " + std::to_string(log_.filter_seeds.size()) +
@@ -257,13 +279,14 @@ class Builder {
         if (!e.beacon_exact) return apply_bearing(e, obs);
         return true;
       case UavStream::kBeacon64:
-        if (!daq || daq->AIN_double.size() != 3) return false;
+        if (!daq || daq->AIN_double.size() != 3 || !all_finite(daq->AIN_double)) return false;
         e.beacon = localization::BeaconMeasurement{daq->AIN_double[0], daq->AIN_double[1], daq->AIN_double[2]};
         e.beacon_exact = true;
         return true;
       case UavStream::kCsi: {
         // Nt is known from the config: a row of any other length is refused.
-        if (!daq || daq->AIN_double.size() != static_cast<std::size_t>(2 * nt)) return false;
+        if (!daq || daq->AIN_double.size() != static_cast<std::size_t>(2 * nt) || !all_finite(daq->AIN_double))
+          return false;
         CsiMeasurement c;
         c.y.resize(nt);
         for (int k = 0; k < nt; ++k) c.y(k) = {daq->AIN_double[2 * k], daq->AIN_double[2 * k + 1]};

@@ -310,6 +310,9 @@ struct RawlogReader::Impl {
       // whether the source ran dry.
       status.stop = source_ended ? RawlogStop::kTruncated : RawlogStop::kCorrupt;
       status.reason = out.class_name + ": MRPT: " + first_line(e.what());
+    } catch (...) {
+      status.stop = RawlogStop::kCorrupt;
+      status.reason = out.class_name + ": MRPT threw a non-standard exception";
     }
     return std::nullopt;
   }

@@ -321,9 +321,12 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
   } catch (const placement::InputError& e) {
     err << "losmimo-replay: " << options.rawlog_path << ": " << e.what() << "\n";
     return 2;
-  } catch (const std::runtime_error& e) {
+  } catch (const std::runtime_error& e) {  // cannot open the file
     err << "losmimo-replay: " << e.what() << "\n";
     return 2;
+  } catch (const std::exception& e) {
+    err << "losmimo-replay: " << options.rawlog_path << ": replay failed: " << e.what() << "\n";
+    return 1;
   }
   try {
     if (!options.out_dir.empty()) write_replay_csv(log, result, options.out_dir);

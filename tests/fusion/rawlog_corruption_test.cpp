@@ -11,6 +11,7 @@
 
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CObservationRawDAQ.h>
@@ -212,6 +213,30 @@ TEST(RawlogForeign, BearingRangeAndOdometry_AreUsedAndTheRestListedAndSkipped) {
   std::ostringstream out2, err2;
   EXPECT_EQ(run_replay_app({path, "ekf", false, false, "", true}, out2, err2), 2);
   EXPECT_NE(err2.str().find("CObservationOdometry"), std::string::npos) << err2.str();
+}
+
+}  // namespace
+}  // namespace losmimo::fusion
+
+namespace losmimo::fusion {
+namespace {
+
+TEST(RawlogCorruption, BadConfigInAnOwnLog_IsBadInputNamingTheKey) {
+  // GIVEN: a log that claims to be ours, with a CONFIG whose [rawlog] filter_seeds is junk.
+  const std::string path = testing::temp_path("bad_config.rawlog");
+  {
+    mrpt::io::CFileGZOutputStream f(path);
+    auto a = mrpt::serialization::archiveFrom(f);
+    mrpt::obs::CObservationComment c;
+    c.text = "losmimo-rawlog 1\n[scenario]\nnum_uavs = 2\n\n[rawlog]\nnum_uavs = 2\nfilter_seeds = 1, x\n";
+    a << c;
+  }
+  // WHEN / THEN
+  RawlogReader reader = RawlogReader::open_file(path);
+  EXPECT_THROW(load_mission_log(reader), placement::InputError);
+  std::ostringstream out, err;
+  EXPECT_EQ(run_replay_app({path, "", false, false, "", false}, out, err), 2);
+  EXPECT_NE(err.str().find("filter_seeds"), std::string::npos) << err.str();
 }
 
 }  // namespace

@@ -62,8 +62,9 @@ struct MissionLog {
   std::string stop_description() const;      // where and why the usable data ended
 };
 
-// Reads the whole rawlog. Throws placement::InputError if the log is ours but its CONFIG is
-// not a valid mission config, or if no object at all could be read.
+// Reads the whole rawlog. Throws placement::InputError (and nothing else) if the log is ours
+// but its CONFIG is not a valid mission config, or if no object at all could be read.
+// Non-finite BEACON64 and CSI values are refused (skipped), as are records of the wrong size.
 MissionLog load_mission_log(RawlogReader& reader);
 
 }  // namespace losmimo::fusion

@@ -82,7 +82,8 @@ class RawlogReader {
   std::unique_ptr<Impl> impl_;
 };
 
-// Reads everything (for tests and the fuzz target): the objects and the final status.
+// Reads everything (for tests and the fuzz target): the objects and the final status. Never
+// throws on any input; with parse_unscanned_classes = false no allocation exceeds the limits.
 struct RawlogContents {
   std::vector<RawlogObject> objects;
   RawlogReadStatus status;
