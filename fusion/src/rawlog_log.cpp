@@ -156,7 +156,11 @@ class Builder {
       return it == keys.end() ? std::string() : it->second;
     };
     std::string error;
-    if (get("objects") != std::to_string(o.index))
+    const auto last = c.text.rfind("text_digest = ");
+    const std::string head = last == std::string::npos ? std::string() : c.text.substr(0, last);
+    if (last == std::string::npos || get("text_digest") != hex64(fnv1a64(head.data(), head.size())))
+      error = "the mark's text_digest does not match its text";
+    else if (get("objects") != std::to_string(o.index))
       error = "object count " + get("objects") + " != " + std::to_string(o.index);
     else if (get("digest") != hex64(digest_))
       error = "digest " + get("digest") + " != " + hex64(digest_);

@@ -68,7 +68,9 @@ class RawlogWriter {
     std::ostringstream text;
     text << "losmimo " << label << "\nobjects = " << objects_ << "\ndigest = " << hex64(digest_)
          << "\n" << body;
-    c.text = text.str();
+    // The mark's own text, up to here, so that no line of it changes unnoticed.
+    const std::string t = text.str();
+    c.text = t + "text_digest = " + hex64(fnv1a64(t.data(), t.size())) + "\n";
     digest_ = kFnvOffset;
     write(c);
     digest_ = kFnvOffset;  // the mark itself is not part of the next digest
