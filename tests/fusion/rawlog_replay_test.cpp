@@ -37,8 +37,7 @@ std::vector<std::vector<std::string>> csv_rows(const std::string& text) {
   return rows;
 }
 
-// Numbers equal within a relative 1e-9 (nan == nan), text exactly. Summary rows that depend on
-// the process (the refined covariance's last bits, see rawlog_replay.h) are not compared.
+// Numbers equal within a relative 1e-9 (nan == nan), text exactly.
 void expect_same_csv(const std::string& golden_path, const std::string& actual_path) {
   constexpr double kRelTol = 1e-9;
   const auto golden = csv_rows(read_file_bytes(golden_path));
@@ -47,7 +46,6 @@ void expect_same_csv(const std::string& golden_path, const std::string& actual_p
   ASSERT_EQ(golden.size(), actual.size()) << golden_path;
   int differences = 0;
   for (std::size_t r = 0; r < golden.size() && differences < 10; ++r) {
-    if (!golden[r].empty() && golden[r][0].rfind("refined_", 0) == 0) continue;
     ASSERT_EQ(golden[r].size(), actual[r].size()) << golden_path << " row " << r;
     for (std::size_t c = 0; c < golden[r].size(); ++c) {
       const std::string& g = golden[r][c];

@@ -16,7 +16,8 @@
 // is a fallback when the belief placement would use is degraded (and the config's fallback is on).
 //
 // Outputs (--out DIR): estimates.csv (epoch, uav, truth, estimate, sigmas, errors, NEES,
-// degraded, beacon), epochs.csv (per-epoch metrics), summary.csv (key,value).
+// degraded, beacon), epochs.csv (per-epoch metrics), summary.csv (key,value; the rows that
+// depend on the process, refined covariances' last bits, go to stdout only).
 
 #include <cstdint>
 #include <iosfwd>
