@@ -134,6 +134,7 @@ class Recorder : public ClosedLoopObserver {
     filter_degraded_.assign(nr, '0');
     degraded_.assign(nr, '0');
     modes_.assign(nr, '-');
+    since_beacon_.assign(nr, 0);
     mrpt::obs::CObservationComment c;
     c.sensorLabel = kLabelConfig;
     c.timestamp = mrpt::Clock::fromDouble(kTimeOrigin_s);
@@ -198,7 +199,6 @@ class Recorder : public ClosedLoopObserver {
       writer_.write(pose_obs(uav_label(m, UavStream::kRefined), t, e.belief.mean_m, e.belief.cov_m2));
     filter_degraded_[m] = e.filter_belief.degraded ? '1' : '0';
     degraded_[m] = e.belief.degraded ? '1' : '0';
-    since_beacon_.resize(filter_degraded_.size());
     since_beacon_[m] = e.filter_belief.epochs_since_beacon;
     current_epoch_ = e.epoch;
     epoch_open_ = true;
