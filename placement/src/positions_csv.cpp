@@ -1,5 +1,6 @@
 #include "losmimo/placement/positions_csv.h"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -7,6 +8,8 @@
 namespace losmimo::placement {
 
 namespace {
+constexpr double kMaxAbsCoordinate_m = 1e9;
+
 std::vector<std::string> split_fields(const std::string& line) {
   std::vector<std::string> fields;
   std::string field;
@@ -48,7 +51,14 @@ Eigen::Matrix3Xd parse_positions_csv(std::istream& in, const std::string& origin
       throw InputError(where + ": more than " + std::to_string(max_rows) + " positions");
     }
     Eigen::Vector3d q;
-    for (int i = 0; i < 3; ++i) q(i) = parse_double(fields[i], where + ": field " + kFieldNames[i]);
+    for (int i = 0; i < 3; ++i) {
+      const std::string field_where = where + ": field " + kFieldNames[i];
+      q(i) = parse_double(fields[i], field_where);
+      // Beyond this, distances overflow (|q| ~ 1e154 m) or phases lose all precision.
+      if (!(std::abs(q(i)) <= kMaxAbsCoordinate_m)) {
+        throw InputError(field_where + ": " + strip(fields[i]) + " is out of range [-1e9, 1e9] m");
+      }
+    }
     rows.push_back(q);
   }
   if (in.bad()) throw InputError(origin + ": read error");

@@ -1,7 +1,8 @@
 #pragma once
 // UAV positions as CSV: one UAV per row, `x,y,z` in metres in the BS frame (scenario.h).
 // An optional header row `x,y,z`, blank lines and `#` comment lines are allowed. Anything else
-// (a missing file, a wrong field count, a non-finite number, more than max_rows rows, no rows)
+// (a missing file, a wrong field count, a non-finite number or one beyond +-1e9 m, more than
+// max_rows rows, no rows)
 // throws InputError naming the file, line and field.
 
 #include <Eigen/Core>

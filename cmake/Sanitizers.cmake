@@ -1,0 +1,34 @@
+# Sanitizer and fuzzing builds (issue 8). Included by the top-level CMakeLists before any
+# add_subdirectory, so the flags reach every losmimo target: libraries, apps, tests, benchmarks.
+# (Directory-scoped add_compile_options / add_link_options, not CMAKE_CXX_FLAGS edits.)
+#
+#   -DLOSMIMO_SANITIZE=address,undefined   ASan + UBSan on everything (scripts/sanitize)
+#   -DLOSMIMO_FUZZ=ON                      clang only: libFuzzer targets in tests/fuzz, and
+#                                          everything instrumented for coverage + ASan + UBSan
+#                                          (scripts/fuzz-smoke)
+# Any UBSan finding aborts (-fno-sanitize-recover=all): a report is a failure, never a warning.
+
+set(LOSMIMO_SANITIZE "" CACHE STRING
+    "Comma-separated sanitizers for every losmimo target, e.g. address,undefined (empty: none)")
+option(LOSMIMO_FUZZ "Build the libFuzzer targets in tests/fuzz (clang only)" OFF)
+
+if(LOSMIMO_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "LOSMIMO_FUZZ=ON needs clang (libFuzzer), e.g. -DCMAKE_CXX_COMPILER=clang++; "
+                        "the compiler is ${CMAKE_CXX_COMPILER_ID}")
+  endif()
+  if(NOT LOSMIMO_SANITIZE)
+    set(LOSMIMO_SANITIZE "address,undefined" CACHE STRING
+        "Comma-separated sanitizers for every losmimo target" FORCE)
+  endif()
+  # Coverage instrumentation for the libraries; the fuzz executables add -fsanitize=fuzzer
+  # (which brings libFuzzer's main) themselves.
+  add_compile_options(-fsanitize=fuzzer-no-link)
+endif()
+
+if(LOSMIMO_SANITIZE)
+  message(STATUS "losmimo: sanitizers ${LOSMIMO_SANITIZE}")
+  add_compile_options(-fsanitize=${LOSMIMO_SANITIZE} -fno-omit-frame-pointer
+                      -fno-sanitize-recover=all)
+  add_link_options(-fsanitize=${LOSMIMO_SANITIZE})
+endif()
