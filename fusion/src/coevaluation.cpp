@@ -22,9 +22,8 @@ namespace losmimo::fusion {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-// Seed streams of ura_ekf's sensors and filters, derived from the trial seed (placement's
-// derive_seed, so they cannot collide with the closed loop's SplitMix64 streams by design of
-// the tags).
+// Tags of ura_ekf's per-UAV seed streams (sensors, filter), derived from the trial seed with
+// placement::derive_seed: each UAV's draws depend on (trial seed, tag, UAV) only.
 constexpr std::uint64_t kUraSimulatorStream = 0x55524153;  // "URAS"
 constexpr std::uint64_t kUraFilterStream = 0x55524146;     // "URAF"
 // Straight-line flight to the centralized solution, sampled to find the ICN milestones.

@@ -152,15 +152,14 @@ std::vector<std::string> write_beacon_noise_figures(const placement::ExperimentS
       gp_header("coeval_sinr.png") + "set title 'Final SINR of stream 1 (NV solid, ZF dotted)'\n" + xlabel +
           "set ylabel 'SINR [dB]'\n" + two_metric_plot("coeval_sinr.dat", algorithms, "NV", "ZF") + "\n");
 
-  std::vector<std::string> movers;  // centralized flies straight: its milestones are still defined
-  for (const std::string& a : algorithms) movers.push_back(a);
+  // Every algorithm moves (centralized's milestones are along its straight flight).
   placement::write_file_atomically((dir / "coeval_travel.dat").string(),
-                                   dat(rows, kSweepBeaconNoise, movers, {"dist_to_icn050_m", "dist_to_icn095_m"}));
+                                   dat(rows, kSweepBeaconNoise, algorithms, {"dist_to_icn050_m", "dist_to_icn095_m"}));
   placement::write_file_atomically(
       (dir / "coeval_travel.gp").string(),
       gp_header("coeval_travel.png") + "set title 'Mean distance per UAV to ICN 0.5 (solid) and 0.95 (dotted)'\n" +
           xlabel + "set ylabel 'distance per UAV [m]'\n" +
-          two_metric_plot("coeval_travel.dat", movers, "ICN 0.5", "ICN 0.95") + "\n");
+          two_metric_plot("coeval_travel.dat", algorithms, "ICN 0.5", "ICN 0.95") + "\n");
 
   // RMSE and NEES of the estimators (algorithms without estimates have nan blocks).
   std::vector<std::string> estimators;

@@ -29,7 +29,7 @@
 //                   iterations 0; the UAVs are taken to fly straight to it simultaneously, so
 //                   dist_to_icn050_m / dist_to_icn095_m are the mean distance flown when the
 //                   ICN along that flight (200 steps) first reaches 0.5 / 0.95; converged =
-//                   feasible.
+//                   feasible (status iteration_cap when Ceres found no feasible point).
 //   The filters assume the true sensor noise, floored at FilterConfig's min_sigma_angle_rad
 //   and min_sigma_range_m (1 mm at 1 km): at v = 0 they assume a beacon of 1e-6 rad.
 //
