@@ -6,6 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "losmimo/fusion/experiment_extensions.h"
+#include "losmimo/placement/experiment_extension.h"
 #include "losmimo/placement/input_error.h"
 #include "losmimo/placement/scenario.h"
 
@@ -63,7 +65,8 @@ void check(const placement::IniConfig& ini, const std::string& key, Fn&& fn) {
 }  // namespace
 
 std::map<std::string, std::set<std::string>> mission_config_keys() {
-  auto keys = placement::placement_config_keys();
+  // The experiment's keys too, so that its INI files (datasets/configs/paper.ini) load here.
+  auto keys = placement::experiment_config_keys(experiment_extensions());
   keys[kLoop] = {"filter",
                  "num_particles",
                  "refine",

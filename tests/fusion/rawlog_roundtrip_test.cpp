@@ -226,6 +226,13 @@ TEST(RawlogMissionConfig, BadKeysAndValues_NameTheKey) {
   EXPECT_EQ(mission_to_ini(load(mission_to_ini(ok))), mission_to_ini(ok));
 }
 
+TEST(RawlogMissionConfig, TheExperimentsIni_LoadsWithItsSectionsIgnored) {
+  const MissionConfig c =
+      load_mission_config(placement::IniConfig::from_file(testing::source_path("datasets/configs/paper.ini")));
+  EXPECT_EQ(c.placement.scenario.num_uavs, 16);
+  EXPECT_EQ(mission_to_ini(c).find("[experiment]"), std::string::npos);
+}
+
 TEST(RawlogRecordApp, ExitCodes) {
   std::ostringstream out, err;
   EXPECT_EQ(run_record_app({"/nonexistent/x.ini", {}, temp_path("x.rawlog")}, out, err), 2);

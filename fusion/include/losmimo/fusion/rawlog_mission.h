@@ -25,6 +25,8 @@
 //     seed                   run seed: sensors, filters, CSI, actuation (1)
 //     start_seed             draws the start positions in the start cube (1)
 //     epoch_period_s         time between epochs in the rawlog's timestamps (1.0)
+// losmimo-experiment's INI files load too (datasets/configs/paper.ini): their [experiment] and
+// sweep sections ([coevaluation]) are accepted and ignored.
 // Filter noise defaults to the true sensor noise (matched_closed_loop_config); the refinement
 // takes the filter's noise model and the scenario's CSI noise (refinement_config_from).
 
@@ -50,7 +52,7 @@ struct MissionConfig {
   placement::IniConfig ini;  // the validated INI as given (overrides applied)
 };
 
-// Sections and keys read by load_mission_config (placement's included).
+// Sections and keys load_mission_config accepts (placement's and the experiment's included).
 std::map<std::string, std::set<std::string>> mission_config_keys();
 
 // Reads and validates every key (unknown ones are errors); a bad value throws
