@@ -240,9 +240,12 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
      << "(Student t) over the trials where the quantity is defined (n). A value agrees with the "
      << "paper when it is within the CI plus the resolution at which the paper's plot can be read "
      << "(0.5 dB, 0.5 m, 5 iterations).\n\n"
-     << "Figures: ![Fig 1a](fig1a.png) ![Fig 1b](fig1b.png) ![Fig 2a](fig2a.png) ![Fig 2b](fig2b.png) "
-     << "![Fig 3](fig3.png)\n\n"
      ;
+  if (!stems.empty()) {
+    md << "Figures:";
+    for (const std::string& stem : stems) md << " ![" << stem << "](" << stem << ".png)";
+    md << "\n\n";
+  }
   std::vector<std::string> differences;
   const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
   if (builtin) md << "| figure | quantity | paper | measured | 95% CI | n | agrees |\n|---|---|---|---|---|---|---|\n";
