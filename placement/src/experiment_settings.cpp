@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "losmimo/placement/experiment_extension.h"
+#include "losmimo/placement/swarm.h"
 
 namespace losmimo::placement {
 
@@ -31,7 +32,7 @@ std::vector<double> parse_sigma_list(const IniConfig& cfg, const std::string& ke
   std::vector<double> values;
   for (const std::string& item : split_list(cfg.get_string("experiment", key, ""))) {
     const double v = parse_double(item, where);
-    if (v < 0.0) throw InputError(where + ": " + item + " must be >= 0");
+    if (!(v >= 0.0 && v <= kMaxErrorSigma_m)) throw InputError(where + ": " + item + " must be in [0, 1e3] m");
     values.push_back(v);
   }
   if (values.empty()) throw InputError(where + ": needs at least one value");

@@ -8,9 +8,9 @@ namespace losmimo::placement {
 
 void validate(const ErrorModel& errors) {
   const auto check = [](const char* field, double value) {
-    if (!(value >= 0.0) || !std::isfinite(value)) {
+    if (!(value >= 0.0 && value <= kMaxErrorSigma_m)) {
       std::ostringstream msg;
-      msg << "errors." << field << " = " << value << ": must be a finite number >= 0";
+      msg << "errors." << field << " = " << value << ": must be in [0, 1e3] m";
       throw std::invalid_argument(msg.str());
     }
   };

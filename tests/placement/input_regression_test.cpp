@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "losmimo/placement/eval.h"
+#include "losmimo/placement/experiment_extension.h"
 #include "losmimo/placement/positions_csv.h"
 #include "losmimo/placement/settings.h"
 
@@ -102,4 +103,23 @@ TEST(IniConfig, DirectoryAsConfig_IsAReadError) {
   std::ostringstream out, err;
   EXPECT_EQ(lp::run_eval(o, out, err), 2);
   EXPECT_NE(err.str().find("cannot read config file"), std::string::npos) << err.str();
+}
+
+// GIVEN an error sigma so large that drawn positions overflow (found by review:
+// `--set experiment.sigma_loc_values_m=1e300` ran and stopped mid-sweep with exit code 1,
+// "assignment: non-finite cost"; `errors.sigma_act_m = 1e300` ran on NaN channels).
+TEST(ErrorSigmas, BeyondTheLimit_AreRejectedBeforeAnyWork) {
+  expect_config_error("[errors]\nsigma_act_m = 1e300\n", {"bad.ini:2", "sigma_act_m", "1e+300"});
+  expect_config_error("[errors]\nsigma_loc_m = 1001\n", {"bad.ini:2", "sigma_loc_m"});
+  try {
+    lp::load_experiment_settings(
+        lp::IniConfig::from_string("[experiment]\nsigma_loc_values_m = 0, 1e300\n", "exp.ini"));
+    ADD_FAILURE() << "accepted";
+  } catch (const lp::InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("exp.ini:2"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("1e300"), std::string::npos) << msg;
+  }
+  EXPECT_NO_THROW(lp::load_experiment_settings(
+      lp::IniConfig::from_string("[experiment]\nsigma_act_values_m = 0, 1e3\n[errors]\nsigma_loc_m = 1e3\n")));
 }

@@ -22,7 +22,10 @@ struct ErrorModel {
   double sigma_loc_m = 0.0;
   double sigma_act_m = 0.0;
 };
-// Throws std::invalid_argument naming the field if a sigma is negative or not finite.
+// Largest accepted sigma: beyond ~1e154 m a drawn position overflows the channel's distances
+// (1e300 used to run with NaN channels, or stop mid-sweep with "non-finite cost").
+inline constexpr double kMaxErrorSigma_m = 1e3;
+// Throws std::invalid_argument naming the field if a sigma is not in [0, kMaxErrorSigma_m].
 void validate(const ErrorModel& errors);
 
 enum class MotionKind { kPlacement, kProbe };
