@@ -1,12 +1,57 @@
 // losmimo-experiment: Monte Carlo reproduction of the paper's Figs 1-3 (see README).
+//   losmimo-experiment [--config ...] [--set ...] [--out DIR]      everything, one process
+//   losmimo-experiment --shard i/N --out DIR_i ...                 one slice of the jobs
+//   losmimo-experiment merge DIR_0 ... DIR_N-1 --out DIR           shards -> one result
+//   losmimo-experiment --resume DIR ...                            continue an interrupted run
+//   mpirun -np K losmimo-experiment ...                            K ranks, rank 0 writes
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <iostream>
+#include <string>
+#include <vector>
+
+#ifdef LOSMIMO_WITH_MPI
+#include <mpi.h>
+#endif
 
 #include "losmimo/fusion/experiment_extensions.h"
 #include "losmimo/placement/experiment.h"
 
+namespace {
+
+#ifdef LOSMIMO_WITH_MPI
+// Launched by mpirun (Open MPI or PMIx set these): only then is MPI initialised, so a plain
+// run never pays for it.
+bool launched_by_mpirun() {
+  return std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr || std::getenv("PMIX_RANK") != nullptr ||
+         std::getenv("PMI_RANK") != nullptr;
+}
+
+// Rank 0 receives every rank's text (MPI_Gatherv of the byte counts, then of the bytes).
+std::vector<std::string> mpi_gather(const std::string& mine, int rank, int size) {
+  const int length = static_cast<int>(mine.size());
+  std::vector<int> lengths(rank == 0 ? size : 0);
+  MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  std::vector<int> offsets(lengths.size());
+  long long total = 0;
+  for (std::size_t r = 0; r < lengths.size(); ++r) {
+    offsets[r] = static_cast<int>(total);
+    total += lengths[r];
+  }
+  std::string all(static_cast<std::size_t>(total), '\0');
+  MPI_Gatherv(mine.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0,
+              MPI_COMM_WORLD);
+  std::vector<std::string> parts;
+  for (std::size_t r = 0; r < lengths.size(); ++r) parts.push_back(all.substr(offsets[r], lengths[r]));
+  return parts;
+}
+#endif
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  losmimo::placement::ExperimentOptions options;
+  namespace lp = losmimo::placement;
+  lp::ExperimentOptions options;
   CLI::App app{"Monte Carlo placement experiments: the paper's Figs 1-3 (losmimo)"};
   app.add_option("--config", options.config_path, "INI config (default: the paper's setup, quick trial count)");
   app.add_option("--set", options.overrides, "override a key: section.key=value (repeatable)");
@@ -14,10 +59,39 @@ int main(int argc, char** argv) {
   app.add_option("--trials", options.trials, "random starts per sweep point (paper: 500)")->check(CLI::PositiveNumber);
   app.add_option("--threads", options.threads, "worker threads (0: all cores); results do not depend on it")
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--shard", options.shard,
+                 "i/N: run only jobs j with j % N == i (0 <= i < N) into --out, for `merge`");
+  app.add_option("--resume", options.resume_dir,
+                 "continue the interrupted run in this folder (same config; finished points are kept)");
+
+  std::vector<std::string> merge_dirs;
+  std::string merge_out = "results";
+  CLI::App* merge = app.add_subcommand("merge", "merge the folders of shards 0..N-1 into one result");
+  merge->add_option("dirs", merge_dirs, "shard folders (written with --shard i/N)")->required();
+  merge->add_option("--out", merge_out, "output directory")->capture_default_str();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-  return losmimo::placement::run_experiment_app(options, losmimo::fusion::experiment_extensions(), std::cout, std::cerr);
+  const lp::ExperimentExtensions extensions = losmimo::fusion::experiment_extensions();
+  if (merge->parsed()) return lp::merge_experiment_app(merge_dirs, merge_out, extensions, std::cout, std::cerr);
+
+#ifdef LOSMIMO_WITH_MPI
+  if (launched_by_mpirun()) {
+    MPI_Init(&argc, &argv);
+    lp::ExperimentCollective collective;
+    MPI_Comm_rank(MPI_COMM_WORLD, &collective.rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &collective.size);
+    collective.gather = [&](const std::string& mine) { return mpi_gather(mine, collective.rank, collective.size); };
+    options.collective = &collective;
+    const int code = lp::run_experiment_app(options, extensions, std::cout, std::cerr);
+    // Every rank returns the same code for bad input; rank 0 reports a failure of any rank.
+    int worst = code;
+    MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    MPI_Finalize();
+    return collective.rank == 0 ? worst : code;
+  }
+#endif
+  return lp::run_experiment_app(options, extensions, std::cout, std::cerr);
 }

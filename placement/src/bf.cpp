@@ -21,8 +21,10 @@ void require_in(const char* field, double value, double lo, double hi, bool lo_o
 // Flies to r, measures f with the others fixed, flies back: one probe. The cached channel is
 // brought up to date once per UAV turn (Swarm::sync_channel), not per flight.
 double probe(Swarm& swarm, const UavObjective& view, int m, const Eigen::Vector3d& r) {
+  thread_local Eigen::VectorXcd row;  // reused: a probe allocates nothing
   swarm.move(m, r, MotionKind::kProbe, false);
-  const double f = view.objective_of_row(swarm.measure_row(m));
+  swarm.channel().model().row(swarm.true_positions_m().col(m), row);
+  const double f = view.objective_of_row(row);
   swarm.move(m, -r, MotionKind::kProbe, false);
   return f;
 }

@@ -112,9 +112,11 @@ std::vector<TrialRecord> run_trial(const ExperimentSettings& s, const std::strin
   }
   const Eigen::Matrix3Xd start = trial_start_positions_m(s, trial);
   const std::uint64_t seed = trial_seed(s, sweep, point, trial);
+  RunOptions run = p.run;
+  run.full_icn_trace = false;  // only milestones and the final positions are recorded
   std::vector<TrialRecord> records;
   for (const Algorithm a : s.algorithms) {
-    records.push_back(make_record(s, sweep, point, trial, to_string(a), run_algorithm(p, a, start, seed, p.run)));
+    records.push_back(make_record(s, sweep, point, trial, to_string(a), run_algorithm(p, a, start, seed, run)));
   }
   return records;
 }

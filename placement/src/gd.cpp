@@ -80,12 +80,12 @@ Eigen::Vector3d GradientDescentPlanner::plan_move(const Swarm& swarm, int m,
                                                   int iteration) const {
   const UavObjective view(swarm.channel(), m);
   const double b = options_.step * std::pow(options_.decay, iteration - 1);
-  Eigen::Vector3d r = -b * view.gradient_at(q_hat_m) / swarm.num_uavs();
+  double f0 = 0.0;  // f at q_hat_m, from the gradient's channel row (one row, Nt sincos, less)
+  Eigen::Vector3d r = -b * view.gradient_at(q_hat_m, options_.backtracking ? &f0 : nullptr) / swarm.num_uavs();
   if (!r.allFinite()) return Eigen::Vector3d::Zero();
   const double norm = r.norm();
   if (norm > options_.max_move_m) r *= options_.max_move_m / norm;
   if (options_.backtracking) {
-    const double f0 = view.objective_at(q_hat_m);
     for (int h = 0; h < options_.max_halvings && view.objective_at(q_hat_m + r) > f0; ++h) r *= 0.5;
   }
   return r;

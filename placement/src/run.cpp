@@ -1,7 +1,10 @@
 #include "losmimo/placement/run.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -40,12 +43,92 @@ double icn_from_gram(const Eigen::MatrixXcd& G, int num_rows) {
 }
 
 namespace {
+// Cholesky of G - sI fails only if lambda_min(G - sI) <= c n^2 eps ||G||: so a failure with
+// this margin (far above that rounding) proves lambda_min(G) < s.
+bool cholesky_fails(const Eigen::MatrixXcd& G, double s) {
+  Eigen::MatrixXcd M = G;
+  M.diagonal().array() -= s;
+  const Eigen::LLT<Eigen::MatrixXcd> llt(M);
+  return llt.info() != Eigen::Success;
+}
+}  // namespace
 
-IterationRecord record(const Swarm& swarm, int iteration, const RunOptions& options) {
+bool icn_below(const Eigen::MatrixXcd& G, int num_rows, double threshold, Eigen::VectorXcd* warm_start) {
+  if (num_rows < G.cols() || G.size() == 0) return threshold > 0.0;  // ICN is 0
+  if (!G.allFinite() || !(threshold > 0.0)) return false;
+  const Eigen::Index n = G.cols();
+  const double trace = G.diagonal().real().sum();
+  const double margin = 1e-8 * trace;  // >> the rounding of what follows (~n^2 eps trace)
+  const double t2 = threshold * threshold;
+  const double max_diag = G.diagonal().real().maxCoeff();
+
+  // Stage 1: two power iterations from the warm start (the previous call's vector: G changes
+  // little between iterations) give a Rayleigh quotient <= lambda_max; then Cholesky.
+  constexpr int kPowerIterations = 2;
+  Eigen::VectorXcd v;
+  if (warm_start && warm_start->size() == n && warm_start->allFinite() && warm_start->squaredNorm() > 0.0) {
+    v = *warm_start;
+  } else {
+    v = G.rowwise().sum();  // any start; the warm start takes over from the next call
+  }
+  double lambda_lo = max_diag;
+  for (int i = 0; i < kPowerIterations; ++i) {
+    const double vv = v.squaredNorm();
+    if (!(vv > 0.0)) return false;
+    const Eigen::VectorXcd Gv = G * v;
+    lambda_lo = std::max(lambda_lo, v.dot(Gv).real() / vv);
+    v = Gv / std::sqrt(Gv.squaredNorm());
+  }
+  if (!v.allFinite()) return false;
+  if (warm_start) *warm_start = v;
+  const double s1 = t2 * (lambda_lo - margin) - margin;
+  if (s1 > 0.0 && cholesky_fails(G, s1)) return true;
+
+  // Stage 2: Lanczos (full reorthogonalisation) from G's heaviest column (not from v, which
+  // may nearly be an eigenvector, a one-dimensional Krylov space): the extreme Ritz values satisfy
+  // theta_max <= lambda_max and theta_min >= lambda_min (to a few eps ||G||), and theta_max
+  // converges fast even when the top of the spectrum is clustered.
+  const Eigen::Index steps = std::min<Eigen::Index>(n, 8);
+  Eigen::MatrixXcd V(n, steps);
+  Eigen::VectorXd alpha(steps), beta(steps);
+  Eigen::Index k_max = 0;
+  G.colwise().squaredNorm().maxCoeff(&k_max);
+  Eigen::VectorXcd w = G.col(k_max);
+  Eigen::Index k = 0;
+  for (; k < steps; ++k) {
+    const double norm = w.norm();
+    if (!(norm > 1e-12 * std::sqrt(trace))) break;  // an invariant subspace: Ritz values exact
+    V.col(k) = w / norm;
+    if (k > 0) beta(k - 1) = norm;
+    w.noalias() = G * V.col(k);
+    alpha(k) = V.col(k).dot(w).real();
+    for (int pass = 0; pass < 2; ++pass) {
+      for (Eigen::Index j = 0; j <= k; ++j) w -= V.col(j) * V.col(j).dot(w);
+    }
+  }
+  if (k == 0) return false;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz;
+  Eigen::VectorXd diag = alpha.head(k);
+  Eigen::VectorXd sub = beta.head(k - 1);
+  ritz.computeFromTridiagonal(diag, sub, Eigen::EigenvaluesOnly);
+  const double theta_min = ritz.eigenvalues()(0);
+  const double theta_max = std::max(ritz.eigenvalues()(k - 1), lambda_lo);
+  const double s2 = t2 * (theta_max - margin) - margin;
+  if (!(s2 > 0.0)) return false;
+  if (theta_min + margin < s2) return true;
+  return s2 > s1 && cholesky_fails(G, s2);
+}
+
+namespace {
+
+IterationRecord record(const Swarm& swarm, int iteration, const RunOptions& options,
+                       double proven_below, Eigen::VectorXcd& icn_warm_start) {
   IterationRecord r;
   r.iteration = iteration;
   const SwarmChannel& ch = swarm.channel();
-  r.icn = icn_from_gram(ch.gram(), ch.num_uavs());
+  r.icn = proven_below > 0.0 && icn_below(ch.gram(), ch.num_uavs(), proven_below, &icn_warm_start)
+              ? std::numeric_limits<double>::quiet_NaN()
+              : icn_from_gram(ch.gram(), ch.num_uavs());
   r.objective = ch.objective();
   r.placement_dist_m = swarm.placement_distance_m().mean();
   r.probe_dist_m = swarm.probe_distance_m().mean();
@@ -75,8 +158,14 @@ RunResult run_placement(Planner& planner, Swarm& swarm, const RunOptions& option
   result.start_m = swarm.true_positions_m();
   planner.start(swarm);
 
+  Eigen::VectorXcd icn_warm_start;  // icn_below's top eigenvector estimate, kept across iterations
   const auto observe = [&](int iteration) {
-    result.trace.push_back(record(swarm, iteration, options));
+    // The smallest ICN that would change anything: skip the eigen-solve below it if allowed.
+    double pending = options.target_icn;
+    if (!result.icn050.reached) pending = std::min(pending, 0.5);
+    if (!result.icn095.reached) pending = std::min(pending, 0.95);
+    result.trace.push_back(record(swarm, iteration, options, options.full_icn_trace ? 0.0 : pending,
+                                  icn_warm_start));
     const IterationRecord& r = result.trace.back();
     update_milestone(result.icn050, r, 0.5);
     update_milestone(result.icn095, r, 0.95);

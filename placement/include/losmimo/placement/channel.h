@@ -14,12 +14,18 @@
 
 namespace losmimo::placement {
 
+// std::remainder(x, 2 pi), bit for bit, without glibc's slow generic path (phase reduction
+// of the channel rows: |x| ~ 1e6 rad at 1 km and 60 GHz).
+double remainder_two_pi(double x);
+
 class ChannelModel {
  public:
   explicit ChannelModel(const Scenario& scenario);
 
   // The channel row (as a column vector, length Nt) of a UAV at q_m (metres).
   Eigen::VectorXcd row(const Eigen::Vector3d& q_m) const;
+  // The same row into x (resized to Nt; no allocation when it already has that size).
+  void row(const Eigen::Vector3d& q_m, Eigen::VectorXcd& x) const;
   // The full Nr x Nt channel of UAVs at the columns of q_m (3 x Nr).
   Eigen::MatrixXcd matrix(const Eigen::Matrix3Xd& q_m) const;
 

@@ -13,6 +13,8 @@
 
 #include <functional>
 #include <iosfwd>
+#include <map>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -40,6 +42,39 @@ using ProgressFn = std::function<void(int, int, const std::string&)>;
 ExperimentResults run_experiment(const ExperimentSettings& settings, const ExperimentExtensions& extensions,
                                  int threads, const ProgressFn& progress = {},
                                  const std::function<void(const std::vector<TrialRecord>&)>& row_sink = {});
+
+// Which jobs a process runs. The jobs are the (sweep point, trial) pairs, numbered
+// j = point * trials + trial with the points of every sweep in order; shard i of N runs the
+// jobs with j % N == i (round robin, so every shard gets a share of every point).
+struct ExperimentSlice {
+  int shard_index = 0;
+  int shard_count = 1;
+  // Resume: points already finished, with their records (not run again, not sent to the sink).
+  std::map<int, std::vector<TrialRecord>> finished_points;
+  bool traces = true;  // the Fig 1 traced runs (a merge recomputes them)
+};
+// Receives each point's records (this slice's jobs only) once they are all done, in order.
+using PointSink = std::function<void(int point, const std::vector<TrialRecord>&)>;
+ExperimentResults run_experiment(const ExperimentSettings& settings, const ExperimentExtensions& extensions,
+                                 int threads, const ExperimentSlice& slice, const ProgressFn& progress,
+                                 const PointSink& sink);
+int num_sweep_points(const ExperimentSettings& settings);
+
+// Parses "i/N" (0 <= i < N, decimal); throws InputError naming the text otherwise.
+std::pair<int, int> parse_shard(const std::string& text);
+
+// Records at full precision (every double as %.17g, positions included), one line each,
+// `r,<point>,...`, and `d,<point>` once a point is complete: the checkpoint of a run
+// (records.partial), a shard's output (records.csv) and what MPI ranks send to rank 0.
+void write_record_lines(std::ostream& out, int point, const std::vector<TrialRecord>& records);
+void write_point_done(std::ostream& out, int point);
+struct RecordLines {
+  std::map<int, std::vector<TrialRecord>> points;  // point -> records in file order
+  std::vector<int> done;                           // `d` markers, in order
+};
+// Throws InputError naming `origin` and the line on a malformed line; a truncated last line
+// (an interrupted write) is ignored when `allow_truncated_tail`.
+RecordLines parse_record_lines(std::istream& in, const std::string& origin, bool allow_truncated_tail);
 
 // CSV writers (column layout documented in README and experiment_trial.h); `extra` names the
 // extension columns appended after the built-in ones (empty cells as nan).
@@ -73,6 +108,15 @@ void write_summary_csv(std::ostream& out, const std::vector<SummaryRow>& rows);
 // Writes `content` to path atomically (temp file + rename).
 void write_file_atomically(const std::string& path, const std::string& content);
 
+// Processes that run one experiment together (MPI ranks): `gather` is collective, each rank
+// passes its serialized records and rank 0 receives every rank's, in rank order (the others
+// an empty list).
+struct ExperimentCollective {
+  int rank = 0;
+  int size = 1;
+  std::function<std::vector<std::string>(const std::string&)> gather;
+};
+
 // The app: returns the exit code (0 ok, 2 bad input, 1 runtime failure).
 struct ExperimentOptions {
   std::string config_path;
@@ -80,8 +124,21 @@ struct ExperimentOptions {
   std::string out_dir = "results";
   int trials = 0;    // > 0 overrides [experiment] trials
   int threads = -1;  // >= 0 overrides [experiment] threads
+  // "i/N": run shard i of N into out_dir (config.ini, shard.ini, records.csv) for
+  // `losmimo-experiment merge`; empty: everything.
+  std::string shard;
+  // Continue the interrupted run in this folder (its records.partial checkpoint); the config
+  // must give the same results as its config.ini (threads and plots may differ).
+  std::string resume_dir;
+  const ExperimentCollective* collective = nullptr;  // MPI: ranks split the jobs, rank 0 writes
 };
 int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensions& extensions,
                        std::ostream& out, std::ostream& err);
+
+// `losmimo-experiment merge DIR...`: merges complete shard folders (same config, every shard
+// of 0..N-1 exactly once) into out_dir, byte-identical trials.csv, positions.csv, traces.csv
+// and summary.csv to a single-process run. Bad or missing shards: a message and exit code 2.
+int merge_experiment_app(const std::vector<std::string>& shard_dirs, const std::string& out_dir,
+                         const ExperimentExtensions& extensions, std::ostream& out, std::ostream& err);
 
 }  // namespace losmimo::placement

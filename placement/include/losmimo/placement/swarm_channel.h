@@ -47,7 +47,8 @@ class UavObjective {
 
   double objective_of_row(const Eigen::VectorXcd& x) const;
   double objective_at(const Eigen::Vector3d& q_m) const;
-  Eigen::Vector3d gradient_at(const Eigen::Vector3d& q_m) const;
+  // With `objective` set, also f at q_m (= objective_at(q_m), bit for bit) from the same row.
+  Eigen::Vector3d gradient_at(const Eigen::Vector3d& q_m, double* objective = nullptr) const;
 
  private:
   const ChannelModel* model_;

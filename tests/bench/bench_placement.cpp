@@ -1,0 +1,180 @@
+// Placement hot paths on the paper's geometry (1 km, 60 GHz, BS spacing 0.25 m), at
+// Nt = Nr = 16, 64, 256 (BS 4x4, 8x8, 16x16). Built with the tests, not run by ctest:
+//   bench_placement --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+//   bench_placement --benchmark_filter=Swarm256      (256 UAVs to ICN 0.95: GD, lattice URA)
+//
+// - Probe: BF's probe evaluation: UAV m's channel row at a probe point (Nt sincos) and f with
+//   the others fixed (one Nt x Nt Hermitian form); items/s = probes/s.
+// - Gradient: GD's grad f of one UAV at a believed position (O(Nt^2)).
+// - UavObjective: the leave-one-out view each UAV builds once per turn (O(Nt^2)).
+// - IterationGd / IterationBf: one pass over every UAV under actuation error 0.02 m
+//   (sigma_loc 0.1 m for GD), including the per-iteration ICN check of run_placement.
+// - Icn: the exact eigen-solve, and icn_below's cheap proof that ICN < 0.95.
+
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cmath>
+#include <random>
+
+#include "losmimo/placement/bf.h"
+#include "losmimo/placement/gd.h"
+#include "losmimo/placement/run.h"
+#include "losmimo/placement/ura.h"
+
+namespace losmimo::placement {
+namespace {
+
+constexpr std::uint64_t kSeed = 7;
+
+Scenario scenario_with_side(int side) {
+  Scenario s;
+  s.bs_rows = side;
+  s.bs_cols = side;
+  s.num_uavs = side * side;
+  return s;
+}
+
+Eigen::Matrix3Xd start_positions(const Scenario& s) {
+  std::mt19937_64 rng(kSeed);
+  return random_start_positions_m(s, rng);
+}
+
+void BM_Probe(benchmark::State& state) {
+  const Scenario s = scenario_with_side(static_cast<int>(state.range(0)));
+  const ChannelModel model(s);
+  const SwarmChannel channel(model, start_positions(s));
+  const int m = 3;
+  const UavObjective view(channel, m);
+  const Eigen::Vector3d q = start_positions(s).col(m);
+  const Eigen::Vector3d probes[] = {{0.3, 0, 0}, {-0.3, 0, 0}, {0, 0.3, 0}, {0, -0.3, 0}, {0, 0, 0.3}, {0, 0, -0.3}};
+  int k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(view.objective_of_row(model.row(q + probes[k])));
+    k = (k + 1) % 6;
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.counters["Nt"] = s.num_bs_antennas();
+}
+BENCHMARK(BM_Probe)->Arg(4)->Arg(8)->Arg(16);
+
+void BM_ChannelRow(benchmark::State& state) {
+  const Scenario s = scenario_with_side(static_cast<int>(state.range(0)));
+  const ChannelModel model(s);
+  Eigen::Vector3d q = start_positions(s).col(0);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(model.row(q));
+    q.y() += 1e-3;
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_ChannelRow)->Arg(4)->Arg(8)->Arg(16);
+
+void BM_Gradient(benchmark::State& state) {
+  const Scenario s = scenario_with_side(static_cast<int>(state.range(0)));
+  const ChannelModel model(s);
+  const SwarmChannel channel(model, start_positions(s));
+  const UavObjective view(channel, 3);
+  Eigen::Vector3d q = start_positions(s).col(3);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(view.gradient_at(q));
+    q.z() += 1e-3;
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_Gradient)->Arg(4)->Arg(8)->Arg(16);
+
+void BM_UavObjective(benchmark::State& state) {
+  const Scenario s = scenario_with_side(static_cast<int>(state.range(0)));
+  const ChannelModel model(s);
+  const SwarmChannel channel(model, start_positions(s));
+  int m = 0;
+  for (auto _ : state) {
+    const UavObjective view(channel, m);
+    benchmark::DoNotOptimize(&view);
+    m = (m + 1) % s.num_uavs;
+  }
+}
+BENCHMARK(BM_UavObjective)->Arg(4)->Arg(8)->Arg(16);
+
+void BM_Icn(benchmark::State& state) {
+  const Scenario s = scenario_with_side(static_cast<int>(state.range(0)));
+  const ChannelModel model(s);
+  const SwarmChannel channel(model, start_positions(s));
+  const bool cheap = state.range(1) != 0;
+  for (auto _ : state) {
+    if (cheap) {
+      benchmark::DoNotOptimize(icn_below(channel.gram(), channel.num_uavs(), 0.95));
+    } else {
+      benchmark::DoNotOptimize(icn_from_gram(channel.gram(), channel.num_uavs()));
+    }
+  }
+}
+BENCHMARK(BM_Icn)->ArgNames({"side", "bound"})->Args({4, 0})->Args({4, 1})->Args({8, 0})->Args({8, 1});
+
+// One planner iteration plus run_placement's ICN check, on a swarm kept away from the target
+// (it starts random and the errors keep it moving).
+template <typename MakePlanner>
+void iterate(benchmark::State& state, const ErrorModel& errors, MakePlanner make_planner) {
+  const Scenario s = scenario_with_side(static_cast<int>(state.range(0)));
+  const ChannelModel model(s);
+  Swarm swarm(model, start_positions(s), errors, kSeed);
+  auto planner = make_planner(s);
+  planner.start(swarm);
+  int iteration = 0;
+  Eigen::VectorXcd warm_start;
+  for (auto _ : state) {
+    planner.iterate(swarm, ++iteration);
+    const SwarmChannel& ch = swarm.channel();
+    if (!icn_below(ch.gram(), ch.num_uavs(), 0.95, &warm_start)) {
+      benchmark::DoNotOptimize(icn_from_gram(ch.gram(), ch.num_uavs()));
+    }
+  }
+  state.counters["Nt"] = s.num_bs_antennas();
+}
+
+void BM_IterationGd(benchmark::State& state) {
+  iterate(state, ErrorModel{0.1, 0.02}, [](const Scenario& s) { return GradientDescentPlanner(s, GdOptions{}); });
+}
+BENCHMARK(BM_IterationGd)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond);
+
+void BM_IterationBf(benchmark::State& state) {
+  iterate(state, ErrorModel{0.0, 0.02}, [](const Scenario& s) { return BruteForcePlanner(s, BfOptions{}); });
+}
+BENCHMARK(BM_IterationBf)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond);
+
+// A 256-UAV swarm (BS 16 x 16) from a random start in the 50 m cube to ICN 0.95, without
+// errors: wall time, iterations and the mean travel per UAV as counters.
+template <typename MakePlanner>
+void swarm256(benchmark::State& state, MakePlanner make_planner) {
+  const Scenario s = scenario_with_side(16);
+  const ChannelModel model(s);
+  RunOptions options;
+  options.max_iterations = 5000;
+  options.full_icn_trace = false;
+  for (auto _ : state) {
+    Swarm swarm(model, start_positions(s), ErrorModel{}, kSeed);
+    auto planner = make_planner(s);
+    const auto t0 = std::chrono::steady_clock::now();
+    const RunResult r = run_placement(planner, swarm, options);
+    state.counters["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    state.counters["converged"] = r.converged();
+    state.counters["iterations"] = r.iterations;
+    state.counters["final_icn"] = icn_from_gram(swarm.channel().gram(), swarm.num_uavs());
+    state.counters["travel_m"] = r.placement_dist_m.mean();
+    state.counters["dist_to_icn095_m"] = r.icn095.reached ? r.icn095.placement_dist_m : std::nan("");
+  }
+}
+
+void BM_Swarm256_Gd(benchmark::State& state) {
+  swarm256(state, [](const Scenario& s) { return GradientDescentPlanner(s, GdOptions{}); });
+}
+BENCHMARK(BM_Swarm256_Gd)->Iterations(1)->Unit(benchmark::kSecond);
+
+void BM_Swarm256_UraLattice(benchmark::State& state) {
+  swarm256(state, [](const Scenario& s) { return UraPlanner(s, UraVariant::kLattice); });
+}
+BENCHMARK(BM_Swarm256_UraLattice)->Iterations(1)->Unit(benchmark::kSecond);
+
+}  // namespace
+}  // namespace losmimo::placement
