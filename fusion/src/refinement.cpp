@@ -42,6 +42,8 @@ void validate(const RefinementConfig& c) {
     bad_field("dr_sigma_fraction", c.dr_sigma_fraction, "must be a finite number >= 0");
   if (!positive_finite(c.csi_noise_variance))
     bad_field("csi_noise_variance", c.csi_noise_variance, "must be a finite positive number");
+  if (!positive_finite(c.csi_max_prior_sigma_m))
+    bad_field("csi_max_prior_sigma_m", c.csi_max_prior_sigma_m, "must be a finite positive number");
   if (c.max_iterations < 1 || c.max_iterations > 1000)
     bad_field("max_iterations", c.max_iterations, "must be in [1, 1000]");
   if (!(c.min_reciprocal_condition_number > 0.0) || !(c.min_reciprocal_condition_number < 1.0))
@@ -72,8 +74,26 @@ RefinementResult refine_window(const placement::ChannelModel& model, const Refin
   const int num_epochs = static_cast<int>(window.size());
   const int nt = model.num_antennas();
 
+  int num_csi_rows = 0;
+  for (const RefinementEpoch& e : window) num_csi_rows += static_cast<int>(e.csi.size());
+  const Eigen::Matrix2d lateral_cov = window.front().filter_belief.cov_m2.bottomRightCorner<2, 2>();
+  const bool csi_usable =
+      config.use_csi && std::sqrt(lateral_cov.selfadjointView<Eigen::Lower>().eigenvalues().maxCoeff()) <=
+                            config.csi_max_prior_sigma_m;
+
+  // Every parameter block lives in one buffer (positions, then one reference phase per CSI
+  // row): ceres::Covariance orders blocks by address, so one buffer makes that order, and the
+  // covariance's last bits, the same in every process.
+  std::vector<double> params(3 * num_epochs + (csi_usable ? num_csi_rows : 0));
+  const auto q_block = [&](int i) { return params.data() + 3 * i; };
   // Initial guess and fallback: the prior carried forward by dead reckoning.
-  std::vector<std::array<double, 3>> q(num_epochs);
+  struct QView {
+    double* p;
+    double& operator[](int k) const { return p[k]; }
+    double* data() const { return p; }
+  };
+  std::vector<QView> q;
+  for (int i = 0; i < num_epochs; ++i) q.push_back({q_block(i)});
   Eigen::Vector3d q_dr = window.front().filter_belief.mean_m;
   Eigen::Matrix3d cov_dr = window.front().filter_belief.cov_m2;
   for (int i = 0; i < num_epochs; ++i) {
@@ -87,7 +107,9 @@ RefinementResult refine_window(const placement::ChannelModel& model, const Refin
       const double sigma = dr_sigma_m(config, d);
       cov_dr += sigma * sigma * Eigen::Matrix3d::Identity();
     }
-    q[i] = {q_dr.x(), q_dr.y(), q_dr.z()};
+    q[i][0] = q_dr.x();
+    q[i][1] = q_dr.y();
+    q[i][2] = q_dr.z();
   }
 
   ceres::Problem problem;
@@ -110,12 +132,9 @@ RefinementResult refine_window(const placement::ChannelModel& model, const Refin
     }
   }
 
-  // One reference phase per CSI row; sized before any block points into it.
-  std::vector<double> psi_rad;
-  if (config.use_csi) {
-    int num_rows = 0;
-    for (const RefinementEpoch& e : window) num_rows += static_cast<int>(e.csi.size());
-    psi_rad.reserve(num_rows);
+  result.csi_gated = config.use_csi && !csi_usable && num_csi_rows > 0;
+  if (csi_usable) {
+    double* psi_rad = params.data() + 3 * num_epochs;
     const double sigma_phase = csi_phase_sigma_rad(config.csi_noise_variance);
     for (int i = 0; i < num_epochs; ++i) {
       const Eigen::Vector3d q_init(q[i][0], q[i][1], q[i][2]);
@@ -127,13 +146,14 @@ RefinementResult refine_window(const placement::ChannelModel& model, const Refin
         }
         Eigen::VectorXd phase(nt);
         for (int k = 0; k < nt; ++k) phase(k) = std::arg(csi.y(k));
-        psi_rad.push_back(csi_reference_phase_rad(model, csi, q_init));
+        *psi_rad = csi_reference_phase_rad(model, csi, q_init);
         problem.AddResidualBlock(CsiPhaseCost::Create(phase, model.antennas_m(),
                                                       model.wavenumber_rad_per_m(), sigma_phase),
-                                 nullptr, q[i].data(), &psi_rad.back());
+                                 nullptr, q[i].data(), psi_rad);
+        ++psi_rad;
       }
     }
-    result.num_csi = num_rows;
+    result.num_csi = num_csi_rows;
   }
 
   ceres::Solver::Options options;

@@ -138,7 +138,9 @@ TEST(RefineWindow, LostFilterWithCsiOnly_ObservesLateralButHardlyDepth) {
   w.epochs.front().filter_belief.cov_m2 = 1e16 * Eigen::Matrix3d::Identity();
   // Start the solver near the truth: without a prior nothing else anchors the solution.
   w.epochs.front().filter_belief.mean_m = w.truth_m.col(0) + Eigen::Vector3d(0.5, 0.1, -0.1);
+  config.csi_max_prior_sigma_m = 1e9;  // lift the wide-prior gate: this start is near the truth
   const RefinementResult r = refine_window(model, config, w.epochs);
+  EXPECT_FALSE(r.csi_gated);
   // THEN: a Ceres covariance (the spherical wavefront leaves range weakly observable): tight
   // across the line of sight (CSI measures the direction), tens of metres along it.
   ASSERT_EQ(r.covariance_source, CovarianceSource::kCeres);
@@ -150,6 +152,24 @@ TEST(RefineWindow, LostFilterWithCsiOnly_ObservesLateralButHardlyDepth) {
   EXPECT_GT(std::sqrt(u.dot(r.belief.cov_m2 * u)), 10.0);
   const Eigen::Vector3d error = r.belief.mean_m - w.truth_m.col(config.window_epochs - 1);
   EXPECT_LT(std::hypot(e1.dot(error), e2.dot(error)), 0.5);
+}
+
+TEST(RefineWindow, LostFilterWithCsiOnly_DefaultGatesCsiInsteadOfLockingOntoALobe) {
+  // GIVEN: a lost filter (lateral 1-sigma 10 m, far wider than CSI's ~+-3 m phase lobes), no
+  // beacon, CSI at every epoch, and a mean 4 m off the truth laterally: a wrong lobe is near.
+  const placement::ChannelModel model(placement::Scenario{});
+  RefinementConfig config;
+  config.use_beacons = false;
+  std::mt19937_64 rng(36);
+  DrawnWindow w = draw_window(model, config, config.window_epochs, rng);
+  w.epochs.front().filter_belief.cov_m2 = 100.0 * Eigen::Matrix3d::Identity();
+  w.epochs.front().filter_belief.mean_m = w.truth_m.col(0) + Eigen::Vector3d(0.0, 4.0, 0.0);
+  const RefinementResult r = refine_window(model, config, w.epochs);
+  // THEN: CSI is not used, and the belief stays as wide as the prior says (no false certainty).
+  EXPECT_TRUE(r.csi_gated);
+  EXPECT_EQ(r.num_csi, 0);
+  EXPECT_GT(std::sqrt(r.belief.cov_m2(1, 1)), 5.0);
+  EXPECT_GT(std::sqrt(r.belief.cov_m2(2, 2)), 5.0);
 }
 
 TEST(SlidingWindowRefiner, KeepsLastWEpochs_AndRestartsAfterGap) {

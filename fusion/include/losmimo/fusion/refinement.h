@@ -53,6 +53,10 @@ struct RefinementConfig {
   double dr_sigma_floor_m = 0.01;          // per axis, per displacement
   double dr_sigma_fraction = 0.02;         // per axis, per metre of measured displacement
   double csi_noise_variance = 0.1;         // per entry, normalised: Scenario::noise_variance()
+  // CSI phases wrap every few metres across the line of sight (~+-3.3 m over the 0.75 m
+  // aperture at 1 km): with a wider prior the solve can lock onto a wrong lobe with a tiny
+  // covariance. CSI rows are used only while the prior's lateral 1-sigma is below this.
+  double csi_max_prior_sigma_m = 0.5;
   int max_iterations = 20;                 // Levenberg-Marquardt iterations
   // DENSE_SVD rank test: sigma_min / sigma_max of the Jacobian below sqrt(this) is rank deficient.
   double min_reciprocal_condition_number = 1e-14;
@@ -90,6 +94,7 @@ struct RefinementResult {
   int num_epochs = 0;
   int num_beacons = 0;             // beacon blocks used (epochs 1..W-1)
   int num_csi = 0;                 // CSI rows used
+  bool csi_gated = false;          // CSI rows present but unused: prior too wide (see config)
   double initial_cost = 0.0;       // Ceres cost = 0.5 * sum of squared whitened residuals
   double final_cost = 0.0;
   Eigen::Matrix3Xd window_positions_m;  // refined q_0 .. q_{W-1}
