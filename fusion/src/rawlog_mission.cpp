@@ -110,7 +110,9 @@ MissionConfig load_mission_config(const placement::IniConfig& ini) {
   check_sim("beacon_sigma_range_m");
 
   ClosedLoopConfig& cl = c.closed_loop;
-  cl = matched_closed_loop_config(sim, sc);
+  // The refinement's own checks (e.g. dr_sigma_floor_m > 0) throw std::invalid_argument: name
+  // the key (found by fuzz_rawlog: a CONFIG with dr_sigma_floor_m = 0 escaped as a non-InputError).
+  check(ini, "dr_sigma_floor_m", [&] { cl = matched_closed_loop_config(sim, sc); });
   const std::string filter = ini.get_string(kLoop, "filter", "ekf");
   check(ini, "filter", [&] { cl.filter_kind = localization::filter_kind_from_string(filter); });
   cl.filter.num_particles = static_cast<int>(
