@@ -123,7 +123,8 @@ MissionConfig load_mission_config(const placement::IniConfig& ini) {
   cl.filter.degraded_after_epochs = static_cast<int>(
       ini.get_integer(kLoop, "degraded_after_epochs", cl.filter.degraded_after_epochs, 1, 1'000'000));
   check(ini, "filter_sigma_range_m", [&] { localization::validate(cl.filter); });
-  cl.refinement = refinement_config_from(cl.filter.noise, sc.noise_variance());
+  check(ini, "filter_sigma_angle_rad",  // e.g. a zero filter sigma (also found by fuzz_rawlog)
+        [&] { cl.refinement = refinement_config_from(cl.filter.noise, sc.noise_variance()); });
   cl.refine = ini.get_bool(kLoop, "refine", cl.refine);
   cl.refinement.use_csi = ini.get_bool(kLoop, "use_csi", cl.refinement.use_csi);
   cl.refinement.window_epochs = static_cast<int>(
