@@ -295,30 +295,16 @@ void ClosedLoopPlanner::iterate(placement::Swarm& swarm, int iteration) {
 
 // GradientDescentPlanner's escape (gd.h), from the belief mean; BF-mode UAVs are skipped.
 bool ClosedLoopPlanner::try_escape(placement::Swarm& swarm) {
-  constexpr int kHalfGrid = 4;  // (2 * 4 + 1)^2 candidates, spacing period / 8
   const std::vector<int> order = placement::uavs_by_redundancy(swarm.channel());
   const int m = order[escape_rank_ % static_cast<int>(order.size())];
   ++escape_rank_;
   if (config_.fallback_to_bf && beliefs_[m].degraded) return false;
   const Eigen::Vector3d q_hat = beliefs_[m].mean_m;
-  const placement::UavObjective view(swarm.channel(), m);
-  const double spacing =
-      placement::lateral_period_m(scenario_.wavelength_m(), q_hat.x(), scenario_.bs_spacing_m) /
-      (2 * kHalfGrid);
-  Eigen::Vector3d best_offset = Eigen::Vector3d::Zero();
-  const double f0 = view.objective_at(q_hat);
-  double best_f = f0;
-  for (int i = -kHalfGrid; i <= kHalfGrid; ++i) {
-    for (int j = -kHalfGrid; j <= kHalfGrid; ++j) {
-      const Eigen::Vector3d offset(0.0, i * spacing, j * spacing);
-      const double f = view.objective_at(q_hat + offset);
-      if (f < best_f) {
-        best_f = f;
-        best_offset = offset;
-      }
-    }
-  }
-  if (best_f < (1.0 - gd_options_.stall_min_decrease) * f0) {
+  const placement::LateralSearch search = placement::search_lateral_period(
+      placement::UavObjective(swarm.channel(), m), q_hat,
+      placement::lateral_period_m(scenario_.wavelength_m(), q_hat.x(), scenario_.bs_spacing_m));
+  const Eigen::Vector3d& best_offset = search.offset_m;
+  if (search.best_objective < (1.0 - gd_options_.stall_min_decrease) * search.objective_at_start) {
     const Eigen::Vector3d q_before = swarm.true_positions_m().col(m);
     swarm.move(m, best_offset, placement::MotionKind::kPlacement);
     if (observer_) {

@@ -11,6 +11,7 @@ namespace losmimo::fusion {
 namespace {
 
 using placement::InputError;
+using placement::split_list;
 const std::string kSection = "coevaluation";
 
 constexpr CoevalAlgorithm kAll[] = {
@@ -20,18 +21,6 @@ constexpr CoevalAlgorithm kAll[] = {
 // The outage sweep runs the closed loop only: the point is what the fallback does.
 constexpr CoevalAlgorithm kOutageAllowed[] = {CoevalAlgorithm::kGdEkf, CoevalAlgorithm::kGdEkfNoFallback,
                                               CoevalAlgorithm::kGdPf, CoevalAlgorithm::kGdEkfCeres};
-
-std::vector<std::string> split_list(const std::string& text) {
-  std::vector<std::string> items;
-  std::istringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    const std::size_t b = item.find_first_not_of(" \t");
-    const std::size_t e = item.find_last_not_of(" \t");
-    items.push_back(b == std::string::npos ? std::string() : item.substr(b, e - b + 1));
-  }
-  return items;
-}
 
 std::string names(const CoevalAlgorithm* first, const CoevalAlgorithm* last) {
   std::string out;

@@ -13,18 +13,6 @@ namespace {
 constexpr Algorithm kAllAlgorithms[] = {Algorithm::kRandom, Algorithm::kGd, Algorithm::kBf,
                                         Algorithm::kUra, Algorithm::kUraLattice};
 
-std::vector<std::string> split_list(const std::string& text) {
-  std::vector<std::string> items;
-  std::istringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    const std::size_t b = item.find_first_not_of(" \t");
-    const std::size_t e = item.find_last_not_of(" \t");
-    items.push_back(b == std::string::npos ? std::string() : item.substr(b, e - b + 1));
-  }
-  return items;
-}
-
 std::vector<double> parse_sigma_list(const IniConfig& cfg, const std::string& key,
                                      const std::vector<double>& fallback) {
   if (!cfg.has("experiment", key)) return fallback;

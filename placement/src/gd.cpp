@@ -47,27 +47,13 @@ void GradientDescentPlanner::start(Swarm& /*swarm*/) {
 }
 
 bool GradientDescentPlanner::try_escape(Swarm& swarm) {
-  constexpr int kHalfGrid = 4;  // (2 * 4 + 1)^2 candidates, spacing period / 8
   const std::vector<int> order = uavs_by_redundancy(swarm.channel());
   const int m = order[escape_rank_ % static_cast<int>(order.size())];
   const Eigen::Vector3d q_hat = swarm.estimate_position(m);
-  const UavObjective view(swarm.channel(), m);
-  const double spacing = lateral_period_m(wavelength_m_, q_hat.x(), bs_spacing_m_) / (2 * kHalfGrid);
-  Eigen::Vector3d best_offset = Eigen::Vector3d::Zero();
-  const double f0 = view.objective_at(q_hat);
-  double best_f = f0;
-  for (int i = -kHalfGrid; i <= kHalfGrid; ++i) {
-    for (int j = -kHalfGrid; j <= kHalfGrid; ++j) {
-      const Eigen::Vector3d offset(0.0, i * spacing, j * spacing);
-      const double f = view.objective_at(q_hat + offset);
-      if (f < best_f) {
-        best_f = f;
-        best_offset = offset;
-      }
-    }
-  }
-  if (best_f < (1.0 - options_.stall_min_decrease) * f0) {
-    swarm.move(m, best_offset, MotionKind::kPlacement);
+  const LateralSearch search = search_lateral_period(
+      UavObjective(swarm.channel(), m), q_hat, lateral_period_m(wavelength_m_, q_hat.x(), bs_spacing_m_));
+  if (search.best_objective < (1.0 - options_.stall_min_decrease) * search.objective_at_start) {
+    swarm.move(m, search.offset_m, MotionKind::kPlacement);
     escape_rank_ = 0;
     return true;
   }

@@ -15,6 +15,9 @@
 
 namespace losmimo::placement {
 
+// Splits a comma-separated value into its items, each trimmed of spaces and tabs.
+std::vector<std::string> split_list(const std::string& text);
+
 class IniConfig {
  public:
   IniConfig() = default;

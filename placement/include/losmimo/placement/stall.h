@@ -37,4 +37,13 @@ std::vector<int> uavs_by_redundancy(const SwarmChannel& channel);
 // array's antenna spacing d_t leaves every column's phase unchanged (mod 2 pi).
 double lateral_period_m(double wavelength_m, double depth_m, double bs_spacing_m);
 
+// The escape search of a UAV that knows (or believes) its position q_m: f under its own model
+// on the lateral grid (0, i s, j s), |i|, |j| <= 4, s = period / 8, around q_m.
+struct LateralSearch {
+  Eigen::Vector3d offset_m = Eigen::Vector3d::Zero();  // the best grid offset (0 if none is lower)
+  double best_objective = 0.0;
+  double objective_at_start = 0.0;
+};
+LateralSearch search_lateral_period(const UavObjective& view, const Eigen::Vector3d& q_m, double period_m);
+
 }  // namespace losmimo::placement
