@@ -3,6 +3,9 @@
 // Runs the real losmimo-experiment binary.
 #include <gtest/gtest.h>
 
+#include "common/child_process.h"
+#include "common/files.h"
+
 #include <chrono>
 #include <csignal>
 #include <filesystem>
@@ -22,58 +25,7 @@
 #include <unistd.h>
 #include <vector>
 
-namespace losmimo::test {
 
-// Starts argv[0] with argv; stdout/stderr go to `log_path`. Returns the pid (-1 on failure).
-inline pid_t spawn(const std::vector<std::string>& argv, const std::string& log_path) {
-  const pid_t pid = ::fork();
-  if (pid != 0) return pid;
-  const int fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  if (fd >= 0) {
-    ::dup2(fd, STDOUT_FILENO);
-    ::dup2(fd, STDERR_FILENO);
-    ::close(fd);
-  }
-  std::vector<char*> args;
-  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  ::execvp(args[0], args.data());
-  ::_exit(127);
-}
-
-// Waits for the child; its exit code, or 128 + signal.
-inline int wait_for(pid_t pid) {
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return -1;
-  }
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
-  return -1;
-}
-
-inline int run_process(const std::vector<std::string>& argv, const std::string& log_path) {
-  const pid_t pid = spawn(argv, log_path);
-  return pid < 0 ? -1 : wait_for(pid);
-}
-
-// The first executable `name` on PATH, or "".
-inline std::string find_on_path(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  std::string dirs = path ? path : "";
-  std::size_t start = 0;
-  while (start <= dirs.size()) {
-    const std::size_t end = dirs.find(':', start);
-    const std::string dir = dirs.substr(start, end == std::string::npos ? std::string::npos : end - start);
-    const std::string candidate = (dir.empty() ? "." : dir) + "/" + name;
-    if (::access(candidate.c_str(), X_OK) == 0) return candidate;
-    if (end == std::string::npos) break;
-    start = end + 1;
-  }
-  return "";
-}
-
-}  // namespace losmimo::test
 
 namespace fs = std::filesystem;
 namespace lt = losmimo::test;
@@ -83,12 +35,7 @@ constexpr int kPointsBeforeKill = 2;  // of 8
 constexpr auto kPollInterval = std::chrono::milliseconds(2);
 constexpr auto kKillDeadline = std::chrono::seconds(300);
 
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using losmimo::test::read_file;
 
 int count_done_points(const fs::path& records) {
   std::istringstream in(read_file(records));

@@ -2,6 +2,8 @@
 // specs, shards of another config and missing or repeated shards stop with exit code 2.
 #include <gtest/gtest.h>
 
+#include "common/files.h"
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -17,12 +19,7 @@ namespace fs = std::filesystem;
 namespace {
 constexpr int kShards = 3;
 
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using losmimo::test::read_file;
 
 // Small but complete: every algorithm, both sweeps, 3 trials (9 jobs over 3 shards).
 lp::ExperimentOptions tiny(const fs::path& out, int threads) {

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include "common/files.h"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -18,12 +20,7 @@ constexpr int kTrials = 2;
 constexpr int kPointsPerSweep = 2;
 constexpr int kAlgorithms = 5;
 
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using losmimo::test::read_file;
 
 std::vector<std::vector<std::string>> read_csv(const fs::path& p) {
   std::vector<std::vector<std::string>> rows;
