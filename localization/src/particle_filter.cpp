@@ -75,14 +75,9 @@ class ParticlePositionFilter::Mrpt final
   void step(const Eigen::Vector3d& measured_displacement_m,
             const std::optional<BeaconMeasurement>& beacon) {
     ++counters_.epochs;
-    if (measured_displacement_m.allFinite()) {
-      u_m_ = measured_displacement_m;
-      sigma_q_m_ = displacement_sigma_m(config_, measured_displacement_m.norm());
-    } else {
-      ++counters_.rejected_non_finite_displacement;
-      u_m_.setZero();
-      sigma_q_m_ = config_.missing_displacement_sigma_m;
-    }
+    const ScreenedDisplacement d = screen_displacement(config_, measured_displacement_m, counters_);
+    u_m_ = d.u_m;
+    sigma_q_m_ = d.sigma_m;
     beacon_ = beacon;
     verdict_ = BeaconVerdict::kNone;
 

@@ -20,6 +20,13 @@ double displacement_sigma_m(const FilterConfig& config, double distance_m) {
   return std::max(sigma_m, config.min_sigma_displacement_m);
 }
 
+ScreenedDisplacement screen_displacement(const FilterConfig& config, const Eigen::Vector3d& measured_m,
+                                         FilterCounters& counters) {
+  if (measured_m.allFinite()) return {measured_m, displacement_sigma_m(config, measured_m.norm())};
+  ++counters.rejected_non_finite_displacement;
+  return {Eigen::Vector3d::Zero(), config.missing_displacement_sigma_m};
+}
+
 Eigen::Matrix3d floored_beacon_cov(const FilterConfig& config) {
   return beacon_noise_cov(std::max(config.noise.sigma_range_m, config.min_sigma_range_m),
                           std::max(config.noise.sigma_angle_rad, config.min_sigma_angle_rad));

@@ -18,6 +18,15 @@ bool is_finite(const BeaconMeasurement& z);
 // max(dr_sigma_floor_m + dr_sigma_fraction * distance_m, min_sigma_displacement_m).
 double displacement_sigma_m(const FilterConfig& config, double distance_m);
 
+// The displacement an epoch predicts with and its per-axis sigma: the reading itself, or, when
+// it is not finite, zero with missing_displacement_sigma_m (counted in `counters`).
+struct ScreenedDisplacement {
+  Eigen::Vector3d u_m = Eigen::Vector3d::Zero();
+  double sigma_m = 0.0;
+};
+ScreenedDisplacement screen_displacement(const FilterConfig& config, const Eigen::Vector3d& measured_m,
+                                         FilterCounters& counters);
+
 // Floored beacon noise covariance R.
 Eigen::Matrix3d floored_beacon_cov(const FilterConfig& config);
 
