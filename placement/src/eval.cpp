@@ -4,6 +4,7 @@
 #include <iomanip>
 #include <ostream>
 
+#include "losmimo/placement/experiment_extension.h"
 #include "losmimo/placement/metrics.h"
 #include "losmimo/placement/positions_csv.h"
 #include "losmimo/placement/settings.h"
@@ -45,7 +46,8 @@ int run_eval(const EvalOptions& options, std::ostream& out, std::ostream& err) {
     IniConfig config =
         options.config_path.empty() ? IniConfig() : IniConfig::from_file(options.config_path);
     for (const std::string& o : options.overrides) config.set_override(o);
-    config.require_known(placement_config_keys());
+    // An experiment config (e.g. datasets/configs/paper.ini) is a valid scenario source too.
+    config.require_known(experiment_config_keys());
     const PlacementSettings settings = load_placement_settings(config);
     const Eigen::Matrix3Xd q_m = read_positions_csv(options.positions_path);
     const ChannelModel model(settings.scenario);

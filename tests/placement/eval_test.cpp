@@ -79,6 +79,16 @@ TEST(LosmimoEval, FewerUavsThanAntennas_ReportsIcnZeroWithoutCrashing) {
   EXPECT_EQ(csv_value(eval(temp_file("few2.csv", "1000,0,0\n1000,5,0\n")).out, "icn"), 0.0);
 }
 
+TEST(LosmimoEval, ShippedPaperIni_IsAcceptedAsScenario) {
+  lp::EvalOptions o;
+  o.positions_path = kExamples + "ura_optimal_16.csv";
+  o.config_path = std::string(LOSMIMO_SOURCE_DIR) + "/datasets/configs/paper.ini";
+  o.csv = true;
+  std::ostringstream out, err;
+  EXPECT_EQ(lp::run_eval(o, out, err), 0) << err.str();
+  EXPECT_GT(csv_value(out.str(), "icn"), 0.999);
+}
+
 TEST(LosmimoEval, BadConfigValue_ExitTwo) {
   lp::EvalOptions o;
   o.positions_path = kExamples + "ura_optimal_16.csv";
