@@ -2,10 +2,13 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <complex>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
 #include "losmimo/localization/beacon_model.h"
+#include "losmimo/localization/robustness.h"
 
 namespace losmimo::fusion {
 
@@ -58,10 +61,52 @@ GdBeliefMode gd_belief_mode_from_string(const std::string& text) {
   throw std::invalid_argument("closed_loop.gd_mode = '" + text + "': must be mean or sigma_points");
 }
 
+std::string to_string(UavFaultKind kind) {
+  switch (kind) {
+    case UavFaultKind::kUnresponsive: return "unresponsive";
+    case UavFaultKind::kNanBeacon: return "nan_beacon";
+    case UavFaultKind::kNanDisplacement: return "nan_displacement";
+    case UavFaultKind::kNanCsi: return "nan_csi";
+  }
+  return "unknown";
+}
+
+UavFaultKind uav_fault_kind_from_string(const std::string& text) {
+  for (const UavFaultKind kind : {UavFaultKind::kUnresponsive, UavFaultKind::kNanBeacon,
+                                  UavFaultKind::kNanDisplacement, UavFaultKind::kNanCsi}) {
+    if (to_string(kind) == text) return kind;
+  }
+  throw std::invalid_argument("fault kind '" + text +
+                              "': must be unresponsive, nan_beacon, nan_displacement or nan_csi");
+}
+
+int ClosedLoopStats::rejected_measurements() const {
+  int n = 0;
+  for (const std::vector<int>* v : {&rejected_beacons, &rejected_displacements, &rejected_csi}) {
+    for (const int k : *v) n += k;
+  }
+  return n;
+}
+
 void validate(const ClosedLoopConfig& config) {
   localization::validate(config.filter);
   localization::validate(config.simulator);
   validate(config.refinement);
+  if (config.unresponsive_after_iterations < 1 || config.unresponsive_after_iterations > 1000) {
+    fail("unresponsive_after_iterations", config.unresponsive_after_iterations, "in [1, 1000]");
+  }
+  for (std::size_t i = 0; i < config.faults.size(); ++i) {
+    const UavFault& f = config.faults[i];
+    const std::string field = "faults[" + std::to_string(i) + "]";
+    if (f.uav < 0) fail(field + ".uav", f.uav, ">= 0");
+    if (f.from_iteration < 1) fail(field + ".from_iteration", f.from_iteration, ">= 1");
+    if (f.num_iterations < 0) fail(field + ".num_iterations", f.num_iterations, ">= 0");
+    if (f.kind == UavFaultKind::kNanCsi && !(config.refine && config.refinement.use_csi)) {
+      throw std::invalid_argument("closed_loop." + field +
+                                  " = nan_csi: needs refine = true and use_csi = true (no CSI is "
+                                  "measured otherwise)");
+    }
+  }
   for (std::size_t i = 0; i < config.outages.size(); ++i) {
     const UavBeaconOutage& o = config.outages[i];
     const std::string field = "outages[" + std::to_string(i) + "]";
@@ -125,13 +170,26 @@ void ClosedLoopPlanner::start(placement::Swarm& swarm) {
            "< the number of UAVs (" + std::to_string(nr) + ")");
     }
   }
+  for (std::size_t i = 0; i < config_.faults.size(); ++i) {
+    if (config_.faults[i].uav >= nr) {
+      fail("faults[" + std::to_string(i) + "].uav", config_.faults[i].uav,
+           "< the number of UAVs (" + std::to_string(nr) + ")");
+    }
+  }
   uavs_.clear();
   beliefs_.assign(nr, localization::Belief{});
+  heard_.assign(nr, 0);
+  silent_since_.assign(nr, 0);
+  fault_.reset();
   sums_ = Sums{};
   modes_ = ClosedLoopStats{};
   modes_.gd_iterations.assign(nr, 0);
   modes_.bf_fallback_iterations.assign(nr, 0);
   modes_.last_fallback_iteration.assign(nr, 0);
+  modes_.rejected_beacons.assign(nr, 0);
+  modes_.rejected_displacements.assign(nr, 0);
+  modes_.rejected_csi.assign(nr, 0);
+  modes_.silent_iterations.assign(nr, 0);
   stall_.reset();
   escape_rank_ = 0;
 
@@ -150,7 +208,17 @@ void ClosedLoopPlanner::start(placement::Swarm& swarm) {
             nullptr, std::nullopt, std::mt19937_64(derive_seed(seed_, Stream::kCsi, m)),
             swarm.true_positions_m().col(m), 1.0};
     const Eigen::Vector3d q = uav.last_q_m;
-    const std::optional<localization::BeaconMeasurement> z0 = uav.simulator.measure_beacon(q, 0);
+    // Epoch 0 belongs to iteration 1: a UAV unresponsive from iteration 1 delivers nothing.
+    const bool silent = unresponsive(m, 1);
+    std::optional<localization::BeaconMeasurement> z0;
+    if (!silent) z0 = uav.simulator.measure_beacon(q, 0);
+    if (z0 && fault_active(UavFaultKind::kNanBeacon, m, 1))
+      z0->range_m = std::numeric_limits<double>::quiet_NaN();
+    if (z0 && !localization::is_finite(*z0)) {
+      ++modes_.rejected_beacons[m];
+      z0.reset();
+    }
+    heard_[m] = silent ? 0 : 1;
     localization::Belief initial;
     if (z0) {
       initial = localization::beacon_fix(*z0, config_.filter.noise.sigma_range_m,
@@ -164,15 +232,27 @@ void ClosedLoopPlanner::start(placement::Swarm& swarm) {
       initial.degraded = true;
       initial.epochs_since_beacon = config_.filter.degraded_after_epochs;
     }
+    if (const std::optional<std::string> problem = localization::health_problem(initial)) {
+      // e.g. a fix from an absurd (finite) beacon range: the run ends at iteration 0; the
+      // filter, which would refuse such a belief, starts from the prior meanwhile.
+      if (!fault_) {
+        fault_ = placement::PlannerFault{placement::RunStatus::kNumericalFault, m,
+                                         "UAV " + std::to_string(m) + ": initial beacon fix " +
+                                             *problem + " at epoch 0"};
+      }
+      initial.mean_m = scenario_.cube_center_m;
+      initial.cov_m2 = prior_sigma_m * prior_sigma_m * Eigen::Matrix3d::Identity();
+      initial.degraded = true;
+      initial.epochs_since_beacon = config_.filter.degraded_after_epochs;
+      z0.reset();
+    }
     uav.filter = localization::make_filter(config_.filter_kind, config_.filter, initial,
                                            derive_seed(seed_, Stream::kFilter, m));
     localization::Belief belief = initial;
     std::optional<CsiMeasurement> observed_csi;
     if (config_.refine) {
       uav.refiner.emplace(scenario_, config_.refinement);
-      std::vector<CsiMeasurement> csi;
-      if (config_.refinement.use_csi)
-        csi.push_back(simulate_csi(model_, q, scenario_.noise_variance(), uav.csi_rng));
+      std::vector<CsiMeasurement> csi = measure_csi(m, q, 1, uav.csi_rng);
       if (observer_ && !csi.empty()) observed_csi = csi.front();
       uav.refiner->add_epoch({initial, std::nullopt, z0, std::move(csi)});
       const RefinementResult r = uav.refiner->refine();
@@ -180,6 +260,7 @@ void ClosedLoopPlanner::start(placement::Swarm& swarm) {
       belief = r.belief;
     }
     beliefs_[m] = belief;
+    check_beliefs(m, 0, uav, initial, belief);
     if (observer_) observer_->on_epoch({0, m, q, std::nullopt, z0, observed_csi, initial, belief});
     const Eigen::Vector3d e = belief.mean_m - q, e_f = initial.mean_m - q;
     sums_.sq_m2 += e.squaredNorm();
@@ -195,28 +276,47 @@ void ClosedLoopPlanner::start(placement::Swarm& swarm) {
 }
 
 void ClosedLoopPlanner::localize(placement::Swarm& swarm, int epoch) {
+  const int iteration = epoch + 1;
   for (int m = 0; m < swarm.num_uavs(); ++m) {
+    if (unresponsive(m, iteration)) continue;  // nothing arrives; the belief stays as it was
+    heard_[m] = 1;  // a reading arrived, finite or not
     Uav& uav = uavs_[m];
     const Eigen::Vector3d q = swarm.true_positions_m().col(m);
-    const Eigen::Vector3d d_meas = uav.simulator.measure_displacement(q - uav.last_q_m);
+    Eigen::Vector3d d_meas = uav.simulator.measure_displacement(q - uav.last_q_m);
     uav.last_q_m = q;
-    const std::optional<localization::BeaconMeasurement> z = uav.simulator.measure_beacon(q, epoch);
-    uav.filter->step(d_meas, z);
+    std::optional<localization::BeaconMeasurement> z = uav.simulator.measure_beacon(q, epoch);
+    // Injected faults, then the master's screening: nothing non-finite goes further.
+    if (fault_active(UavFaultKind::kNanDisplacement, m, iteration))
+      d_meas.x() = std::numeric_limits<double>::quiet_NaN();
+    if (z && fault_active(UavFaultKind::kNanBeacon, m, iteration))
+      z->range_m = std::numeric_limits<double>::quiet_NaN();
+    std::optional<Eigen::Vector3d> d_used = d_meas;
+    if (!d_meas.allFinite()) {
+      ++modes_.rejected_displacements[m];
+      d_used.reset();
+    }
+    if (z && !localization::is_finite(*z)) {
+      ++modes_.rejected_beacons[m];
+      z.reset();
+    }
+    // A missing displacement is the filter's documented NaN input (filter.h: predict with d = 0
+    // and missing_displacement_sigma_m), as in the rawlog replay.
+    uav.filter->step(d_used.value_or(Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())), z);
     const localization::Belief filtered = uav.filter->belief();
     localization::Belief belief = filtered;
     std::optional<CsiMeasurement> observed_csi;
     if (uav.refiner) {
-      std::vector<CsiMeasurement> csi;
-      if (config_.refinement.use_csi)
-        csi.push_back(simulate_csi(model_, q, scenario_.noise_variance(), uav.csi_rng));
+      std::vector<CsiMeasurement> csi = measure_csi(m, q, iteration, uav.csi_rng);
       if (observer_ && !csi.empty()) observed_csi = csi.front();
-      uav.refiner->add_epoch({filtered, d_meas, z, std::move(csi)});
+      uav.refiner->add_epoch({filtered, d_used, z, std::move(csi)});
       const RefinementResult r = uav.refiner->refine();
       if (r.covariance_source == CovarianceSource::kDeadReckoning) ++modes_.refinement_covariance_fallbacks;
       belief = r.belief;
     }
     beliefs_[m] = belief;
-    if (observer_) observer_->on_epoch({epoch, m, q, d_meas, z, observed_csi, filtered, belief});
+    check_beliefs(m, epoch, uav, filtered, belief);
+    if (fault_) return;  // a non-finite belief: not observed, no statistics, no placement
+    if (observer_) observer_->on_epoch({epoch, m, q, d_used, z, observed_csi, filtered, belief});
 
     const Eigen::Vector3d e = belief.mean_m - q, e_f = filtered.mean_m - q;
     sums_.sq_m2 += e.squaredNorm();
@@ -234,6 +334,69 @@ void ClosedLoopPlanner::localize(placement::Swarm& swarm, int epoch) {
     }
   }
   ++modes_.num_epochs;
+}
+
+bool ClosedLoopPlanner::fault_active(UavFaultKind kind, int m, int iteration) const {
+  for (const UavFault& f : config_.faults) {
+    if (f.kind == kind && f.uav == m && f.active(iteration)) return true;
+  }
+  return false;
+}
+
+std::vector<CsiMeasurement> ClosedLoopPlanner::measure_csi(int m, const Eigen::Vector3d& q_m,
+                                                           int iteration, std::mt19937_64& rng) {
+  std::vector<CsiMeasurement> csi;
+  if (!config_.refinement.use_csi) return csi;
+  CsiMeasurement row = simulate_csi(model_, q_m, scenario_.noise_variance(), rng);
+  if (fault_active(UavFaultKind::kNanCsi, m, iteration) && row.y.size() > 0)
+    row.y(0) = std::complex<double>(std::numeric_limits<double>::quiet_NaN(), 0.0);
+  if (row.y.allFinite()) {
+    csi.push_back(std::move(row));
+  } else {
+    ++modes_.rejected_csi[m];
+  }
+  return csi;
+}
+
+void ClosedLoopPlanner::check_beliefs(int m, int epoch, const Uav& uav,
+                                      const localization::Belief& filtered,
+                                      const localization::Belief& belief) {
+  if (fault_) return;
+  const std::string filter = config_.filter_kind == localization::FilterKind::kEkf ? "EKF" : "PF";
+  std::optional<std::string> problem = localization::health_problem(filtered);
+  std::string what = filter + " belief ";
+  if (!problem && uav.filter->counters().non_finite_state > 0) {
+    problem = "state became non-finite (covariance reset)";
+    what = filter + " ";
+  }
+  if (!problem && uav.refiner) {
+    problem = localization::health_problem(belief);
+    what = "refined belief ";
+  }
+  if (!problem) return;
+  fault_ = placement::PlannerFault{placement::RunStatus::kNumericalFault, m,
+                                   "UAV " + std::to_string(m) + ": " + what + *problem +
+                                       " at epoch " + std::to_string(epoch)};
+}
+
+void ClosedLoopPlanner::watch_uavs(int iteration) {
+  for (std::size_t m = 0; m < heard_.size(); ++m) {
+    if (heard_[m]) {
+      silent_since_[m] = 0;
+    } else {
+      ++modes_.silent_iterations[m];
+      if (silent_since_[m] == 0) silent_since_[m] = iteration;
+      const int silent = iteration - silent_since_[m] + 1;
+      if (!fault_ && silent >= config_.unresponsive_after_iterations) {
+        fault_ = placement::PlannerFault{
+            placement::RunStatus::kUavUnresponsive, static_cast<int>(m),
+            "UAV " + std::to_string(m) + ": no measurement and no motion for " +
+                std::to_string(silent) + " iteration" + (silent == 1 ? "" : "s") +
+                " (since iteration " + std::to_string(silent_since_[m]) + ")"};
+      }
+    }
+    heard_[m] = 0;
+  }
 }
 
 Eigen::Vector3d ClosedLoopPlanner::plan_gd(const placement::Swarm& swarm, int m, int iteration) const {
@@ -254,12 +417,18 @@ Eigen::Vector3d ClosedLoopPlanner::plan_gd(const placement::Swarm& swarm, int m,
 void ClosedLoopPlanner::iterate(placement::Swarm& swarm, int iteration) {
   if (uavs_.size() != static_cast<std::size_t>(swarm.num_uavs()))
     throw std::logic_error("ClosedLoopPlanner::iterate before start()");
-  if (iteration > 1) localize(swarm, iteration - 1);  // epoch 0 was start()'s
+  if (fault_) return;
+  if (iteration > 1) localize(swarm, iteration - 1);  // epoch 0 was start()'s (heard_ set there)
+  if (fault_) return;  // a non-finite belief never reaches placement
   escape_iteration_ = iteration;
 
   const double b_bf = bf_options_.step * std::pow(bf_options_.decay, iteration - 1);
   std::string modes(swarm.num_uavs(), static_cast<char>(UavMode::kGd));
   for (int m = 0; m < swarm.num_uavs(); ++m) {
+    if (unresponsive(m, iteration)) {  // the command is lost: the UAV hovers where it is
+      modes[m] = '-';
+      continue;
+    }
     const Eigen::Vector3d q_before = swarm.true_positions_m().col(m);
     Eigen::Vector3d commanded = Eigen::Vector3d::Zero();
     if (config_.fallback_to_bf && beliefs_[m].degraded) {
@@ -280,6 +449,7 @@ void ClosedLoopPlanner::iterate(placement::Swarm& swarm, int iteration) {
       swarm.move(m, commanded, placement::MotionKind::kPlacement);
       ++modes_.gd_iterations[m];
     }
+    if (swarm.true_positions_m().col(m) != q_before) heard_[m] = 1;
     if (observer_) {
       observer_->on_move({iteration, m, static_cast<UavMode>(modes[m]), false, commanded,
                           swarm.true_positions_m().col(m) - q_before});
@@ -290,6 +460,7 @@ void ClosedLoopPlanner::iterate(placement::Swarm& swarm, int iteration) {
     stall_.reset();
     ++modes_.escapes;
   }
+  watch_uavs(iteration);
   if (observer_) observer_->on_iteration_end(iteration, swarm);
 }
 
@@ -299,6 +470,7 @@ bool ClosedLoopPlanner::try_escape(placement::Swarm& swarm) {
   const int m = order[escape_rank_ % static_cast<int>(order.size())];
   ++escape_rank_;
   if (config_.fallback_to_bf && beliefs_[m].degraded) return false;
+  if (unresponsive(m, escape_iteration_)) return false;  // it would not fly the escape
   const Eigen::Vector3d q_hat = beliefs_[m].mean_m;
   const placement::LateralSearch search = placement::search_lateral_period(
       placement::UavObjective(swarm.channel(), m), q_hat,

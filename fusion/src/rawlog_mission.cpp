@@ -52,6 +52,41 @@ std::vector<UavBeaconOutage> parse_outages(const std::string& text, const std::s
   return out;
 }
 
+// "kind:uav:from_iteration[:num_iterations], ..." -> faults; errors name the entry.
+std::vector<UavFault> parse_faults(const std::string& text, const std::string& where, int num_uavs) {
+  std::vector<UavFault> out;
+  std::stringstream list(text);
+  std::string item;
+  while (std::getline(list, item, ',')) {
+    item = trim(item);
+    if (item.empty()) continue;
+    std::vector<std::string> parts;
+    std::stringstream fields(item);
+    std::string part;
+    while (std::getline(fields, part, ':')) parts.push_back(trim(part));
+    if (parts.size() < 3 || parts.size() > 4) {
+      throw InputError(where + ": fault '" + item +
+                       "': expected kind:uav:from_iteration[:num_iterations]");
+    }
+    const std::string w = where + ": fault '" + item + "'";
+    UavFault f;
+    try {
+      f.kind = uav_fault_kind_from_string(parts[0]);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(w + ": " + e.what());
+    }
+    f.uav = static_cast<int>(placement::parse_integer(parts[1], w + " uav", 0, num_uavs - 1));
+    f.from_iteration =
+        static_cast<int>(placement::parse_integer(parts[2], w + " from_iteration", 1, 10'000'000));
+    if (parts.size() == 4) {
+      f.num_iterations =
+          static_cast<int>(placement::parse_integer(parts[3], w + " num_iterations", 0, 10'000'000));
+    }
+    out.push_back(f);
+  }
+  return out;
+}
+
 template <typename Fn>
 void check(const placement::IniConfig& ini, const std::string& key, Fn&& fn) {
   try {
@@ -83,7 +118,9 @@ std::map<std::string, std::set<std::string>> mission_config_keys() {
                  "filter_sigma_range_m",
                  "filter_sigma_angle_rad",
                  "degraded_after_epochs",
-                 "outages"};
+                 "outages",
+                 "faults",
+                 "unresponsive_after_iterations"};
   keys[kMission] = {"seed", "start_seed", "epoch_period_s"};
   return keys;
 }
@@ -136,6 +173,18 @@ MissionConfig load_mission_config(const placement::IniConfig& ini) {
     cl.outages = parse_outages(ini.get_string(kLoop, "outages", ""), ini.where(kLoop, "outages"),
                                sc.num_uavs);
   }
+  if (ini.has(kLoop, "faults")) {
+    cl.faults = parse_faults(ini.get_string(kLoop, "faults", ""), ini.where(kLoop, "faults"),
+                             sc.num_uavs);
+  }
+  cl.unresponsive_after_iterations = static_cast<int>(ini.get_integer(
+      kLoop, "unresponsive_after_iterations", cl.unresponsive_after_iterations, 1, 1000));
+  check(ini, "faults", [&] {  // e.g. nan_csi without refine and use_csi
+    for (const UavFault& f : cl.faults) {
+      if (f.kind == UavFaultKind::kNanCsi && !(cl.refine && cl.refinement.use_csi))
+        throw std::invalid_argument("nan_csi needs refine = true and use_csi = true");
+    }
+  });
   check(ini, "refine", [&] { validate(cl); });
 
   c.seed = static_cast<std::uint64_t>(
@@ -176,6 +225,17 @@ std::string mission_to_ini(const MissionConfig& c) {
     const UavBeaconOutage& u = cl.outages[i];
     o << (i ? ", " : "") << u.uav << ":" << u.window.first_epoch << ":" << u.window.num_epochs;
   }
+  // Fault keys only when set: the CONFIG of a mission without them stays as it was.
+  if (!cl.faults.empty()) {
+    o << "\nfaults = ";
+    for (std::size_t i = 0; i < cl.faults.size(); ++i) {
+      const UavFault& f = cl.faults[i];
+      o << (i ? ", " : "") << to_string(f.kind) << ":" << f.uav << ":" << f.from_iteration << ":"
+        << f.num_iterations;
+    }
+  }
+  if (!cl.faults.empty() || cl.unresponsive_after_iterations != ClosedLoopConfig{}.unresponsive_after_iterations)
+    o << "\nunresponsive_after_iterations = " << cl.unresponsive_after_iterations;
   o << "\n\n[mission]\nseed = " << c.seed << "\nstart_seed = " << c.start_seed
     << "\nepoch_period_s = " << c.epoch_period_s << "\n";
   return o.str();

@@ -299,6 +299,10 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
         << r.uncompressed_bytes << " bytes uncompressed), " << r.epochs << " epochs, "
         << r.run.run.iterations << " iterations, " << placement::to_string(r.run.run.status)
         << ", final ICN " << (r.run.run.trace.empty() ? 0.0 : r.run.run.trace.back().icn) << "\n";
+    if (r.run.run.faulted()) {  // the log is complete up to the fault (END_OF_LOG has the status)
+      err << "losmimo-record: run ended by a fault: " << r.run.run.fault << "\n";
+      return 3;
+    }
     return 0;
   } catch (const std::exception& e) {
     err << "losmimo-record: " << e.what() << "\n";

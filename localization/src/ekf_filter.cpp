@@ -139,6 +139,7 @@ class EkfPositionFilter::Mrpt final
       set_state(fix.mean_m, fix.cov_m2);
     }
     Eigen::Matrix3d P = cov_m2();
+    if (!P.allFinite() || !mean_m().allFinite()) ++counters_.non_finite_state;
     if (make_spd(P, config_.min_variance_m2, config_.missing_displacement_sigma_m *
                                                  config_.missing_displacement_sigma_m)) {
       ++counters_.covariance_repairs;

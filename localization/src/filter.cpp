@@ -105,6 +105,45 @@ void validate(const Belief& belief) {
   }
 }
 
+std::optional<std::string> health_problem(const Belief& belief) {
+  std::ostringstream msg;
+  for (int i = 0; i < 3; ++i) {
+    if (!std::isfinite(belief.mean_m(i))) {
+      msg << "mean_m(" << i << ") = " << belief.mean_m(i);
+      return msg.str();
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (!std::isfinite(belief.cov_m2(i, j))) {
+        msg << "cov_m2(" << i << ", " << j << ") = " << belief.cov_m2(i, j);
+        return msg.str();
+      }
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    if (belief.cov_m2(i, i) < 0.0) {
+      msg << "cov_m2(" << i << ", " << i << ") = " << belief.cov_m2(i, i) << " < 0";
+      return msg.str();
+    }
+  }
+  const double asymmetry = (belief.cov_m2 - belief.cov_m2.transpose()).cwiseAbs().maxCoeff();
+  if (asymmetry > 1e-9 * (1.0 + belief.cov_m2.cwiseAbs().maxCoeff())) {
+    msg << "cov_m2 is asymmetric (max |P - P^T| = " << asymmetry << ")";
+    return msg.str();
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> health_problem(const PositionFilter& filter) {
+  if (std::optional<std::string> problem = health_problem(filter.belief())) return problem;
+  const std::int64_t n = filter.counters().non_finite_state;
+  if (n > 0) {
+    return "state became non-finite in " + std::to_string(n) + " epoch(s), covariance reset";
+  }
+  return std::nullopt;
+}
+
 std::unique_ptr<PositionFilter> make_filter(FilterKind kind, const FilterConfig& config,
                                             const Belief& initial, std::uint64_t seed) {
   switch (kind) {

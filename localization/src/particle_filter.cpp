@@ -142,6 +142,7 @@ class ParticlePositionFilter::Mrpt final
 
   // Replaces the cloud by N equally weighted draws from N(mean, cov).
   void draw_from(const Eigen::Vector3d& mean_m, const Eigen::Matrix3d& cov_m2) {
+    if (!cov_m2.allFinite() || !mean_m.allFinite()) ++counters_.non_finite_state;
     Eigen::Matrix3d P = cov_m2;
     make_spd(P, config_.min_variance_m2, config_.missing_displacement_sigma_m *
                                              config_.missing_displacement_sigma_m);
@@ -182,6 +183,7 @@ class ParticlePositionFilter::Mrpt final
 
   void update_belief() {
     moments(m_particles, belief_.mean_m, belief_.cov_m2);
+    if (!belief_.cov_m2.allFinite() || !belief_.mean_m.allFinite()) ++counters_.non_finite_state;
     if (make_spd(belief_.cov_m2, config_.min_variance_m2,
                  config_.missing_displacement_sigma_m * config_.missing_displacement_sigma_m)) {
       ++counters_.covariance_repairs;

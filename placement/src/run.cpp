@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -30,7 +31,47 @@ void validate(const RunOptions& o) {
 }
 
 std::string to_string(RunStatus status) {
-  return status == RunStatus::kConverged ? "converged" : "iteration_cap";
+  switch (status) {
+    case RunStatus::kConverged: return "converged";
+    case RunStatus::kIterationCap: return "iteration_cap";
+    case RunStatus::kUavUnresponsive: return "uav_unresponsive";
+    case RunStatus::kNumericalFault: return "numerical_fault";
+  }
+  return "unknown";
+}
+
+std::optional<PlannerFault> check_finite(const Swarm& swarm) {
+  const Eigen::Matrix3Xd& q = swarm.true_positions_m();
+  const Eigen::MatrixXcd& H = swarm.channel().H();
+  const Eigen::MatrixXcd& G = swarm.channel().gram();
+  if (q.allFinite() && H.allFinite() && G.allFinite()) return std::nullopt;  // the usual case
+  std::ostringstream reason;
+  for (Eigen::Index m = 0; m < q.cols(); ++m) {
+    if (!q.col(m).allFinite()) {
+      reason << "UAV " << m << ": position is non-finite (q = (" << q(0, m) << ", " << q(1, m)
+             << ", " << q(2, m) << "))";
+      return PlannerFault{RunStatus::kNumericalFault, static_cast<int>(m), reason.str()};
+    }
+  }
+  for (Eigen::Index m = 0; m < H.rows(); ++m) {
+    for (Eigen::Index k = 0; k < H.cols(); ++k) {
+      if (!std::isfinite(H(m, k).real()) || !std::isfinite(H(m, k).imag())) {
+        reason << "UAV " << m << ": channel row is non-finite (H(" << m << ", " << k
+               << ") = " << H(m, k) << ")";
+        return PlannerFault{RunStatus::kNumericalFault, static_cast<int>(m), reason.str()};
+      }
+    }
+  }
+  for (Eigen::Index l = 0; l < G.rows(); ++l) {
+    for (Eigen::Index k = 0; k < G.cols(); ++k) {
+      if (!std::isfinite(G(l, k).real()) || !std::isfinite(G(l, k).imag())) {
+        reason << "Gram matrix is non-finite (G(" << l << ", " << k << ") = " << G(l, k)
+               << ") with every channel row finite";
+        return PlannerFault{RunStatus::kNumericalFault, -1, reason.str()};
+      }
+    }
+  }
+  return std::nullopt;  // not reached: one of the loops found it
 }
 
 double icn_from_gram(const Eigen::MatrixXcd& G, int num_rows) {
@@ -172,14 +213,36 @@ RunResult run_placement(Planner& planner, Swarm& swarm, const RunOptions& option
     return r.icn >= options.target_icn;
   };
 
-  bool done = observe(0);
+  // The first fault of the planner or the swarm, with the iteration it was found in.
+  const auto health = [&](int iteration) -> std::optional<PlannerFault> {
+    std::optional<PlannerFault> fault = planner.fault();
+    if (!fault && swarm.numerical_fault()) {
+      fault = PlannerFault{RunStatus::kNumericalFault, swarm.numerical_fault()->uav,
+                           swarm.numerical_fault()->reason};
+    }
+    if (!fault) fault = check_finite(swarm);
+    if (fault) fault->reason += " at iteration " + std::to_string(iteration);
+    return fault;
+  };
+
   int iteration = 0;
-  while (!done && iteration < options.max_iterations) {
+  std::optional<PlannerFault> fault = health(0);
+  bool done = false;
+  if (!fault || fault->status != RunStatus::kNumericalFault) done = observe(0);
+  while (!fault && !done && iteration < options.max_iterations) {
     ++iteration;
     planner.iterate(swarm, iteration);
-    done = observe(iteration);
+    fault = health(iteration);
+    // A non-finite swarm is not evaluated (the eigen-solve of a NaN Gram matrix means nothing).
+    if (!fault || fault->status != RunStatus::kNumericalFault) done = observe(iteration);
   }
-  result.status = done ? RunStatus::kConverged : RunStatus::kIterationCap;
+  if (fault) {
+    result.status = fault->status;
+    result.fault = fault->reason;
+    result.fault_uav = fault->uav;
+  } else {
+    result.status = done ? RunStatus::kConverged : RunStatus::kIterationCap;
+  }
   result.iterations = iteration;
   result.final_m = swarm.true_positions_m();
   result.placement_dist_m = swarm.placement_distance_m();

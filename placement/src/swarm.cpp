@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace losmimo::placement {
 
@@ -39,8 +40,26 @@ Eigen::Vector3d Swarm::estimate_position(int m) {
   return q_m_.col(m) + gaussian(errors_.sigma_loc_m);
 }
 
+namespace {
+std::string format_vector(const Eigen::Vector3d& v) {
+  std::ostringstream text;
+  text << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return text.str();
+}
+}  // namespace
+
 Eigen::Vector3d Swarm::move(int m, const Eigen::Vector3d& r_m, MotionKind kind, bool update_channel) {
   const Eigen::Vector3d actual = r_m + gaussian(errors_.sigma_act_m);
+  if (!r_m.allFinite() || !(q_m_.col(m) + actual).allFinite()) {
+    if (!fault_) {
+      const std::string what = !r_m.allFinite()
+                                   ? "commanded move is non-finite (r = " + format_vector(r_m) + ")"
+                                   : "move leaves a non-finite position (q = " +
+                                         format_vector(q_m_.col(m)) + ", r = " + format_vector(r_m) + ")";
+      fault_ = SwarmFault{m, "UAV " + std::to_string(m) + ": " + what};
+    }
+    return Eigen::Vector3d::Zero();
+  }
   q_m_.col(m) += actual;
   if (update_channel) channel_.set_position(m, q_m_.col(m));
   (kind == MotionKind::kProbe ? probe_dist_m_ : placement_dist_m_)(m) += actual.norm();

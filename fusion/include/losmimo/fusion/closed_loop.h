@@ -27,6 +27,25 @@
 //     BF mode is skipped.
 //  4. run_placement (placement/run.h) evaluates the ICN and stops at the target.
 //
+// Faults (issue 8). The master (this planner) screens every measurement before it reaches the
+// filter, the refinement or placement, and watches every UAV:
+//  - a non-finite beacon (range, azimuth or elevation) or CSI row is dropped, a non-finite
+//    dead-reckoning displacement is passed to the filter as missing (the filter then predicts
+//    with d = 0 and missing_displacement_sigma_m) and to the refinement as none; each is counted
+//    per UAV in ClosedLoopStats (rejected_*). The observer sees what the filter consumed.
+//  - a UAV that delivers no measurement and does not move for unresponsive_after_iterations
+//    iterations in a row ends the run: fault() = kUavUnresponsive, "UAV 3: no measurement and
+//    no motion for 3 iterations (since iteration 5)". The measurements of iteration i are those
+//    of epoch i - 1 (epoch 0 is start()'s). A UAV dead from iteration k is found at iteration
+//    k + unresponsive_after_iterations - 1.
+//  - after every filter epoch the filter's and the refinement's beliefs are checked
+//    (localization::health_problem): a non-finite or inconsistent belief ends the run before
+//    placement uses it, with kNumericalFault, "UAV 2: EKF belief mean_m(0) = nan at epoch 7".
+//  Faults can be injected (ClosedLoopConfig::faults, UavFault): an unresponsive UAV stops
+//  measuring and moving (its commands are lost: it hovers where it is); the NaN faults corrupt
+//  one component of the measurement as delivered (the simulators draw as usual, so the other
+//  UAVs' runs do not change). Without faults the run is the same as before these checks.
+//
 // Randomness: one run seed; every UAV's simulator, filter and CSI generator and the Swarm get
 // their own std::mt19937_64 seeds derived from it (SplitMix64), so a run depends on the seed
 // only, in any thread.
@@ -76,6 +95,32 @@ struct UavBeaconOutage {
   localization::OutageWindow window;
 };
 
+// An injected fault of one UAV, active in iterations from_iteration .. from_iteration +
+// num_iterations - 1 (num_iterations = 0: to the end of the run). Iteration i localizes epoch
+// i - 1: kUnresponsive from iteration 1 means no measurement from epoch 0 on (the UAV starts from
+// the start-cube prior, as in a beacon outage).
+enum class UavFaultKind {
+  kUnresponsive,     // no beacon, displacement or CSI; commanded moves are not flown
+  kNanBeacon,        // every delivered beacon has range_m = NaN
+  kNanDisplacement,  // the dead-reckoning reading's x is NaN
+  kNanCsi,           // the CSI row's first entry is NaN (needs refine and refinement.use_csi)
+};
+// "unresponsive", "nan_beacon", "nan_displacement", "nan_csi".
+std::string to_string(UavFaultKind kind);
+// The inverse of to_string; throws std::invalid_argument naming the text otherwise.
+UavFaultKind uav_fault_kind_from_string(const std::string& text);
+
+struct UavFault {
+  UavFaultKind kind = UavFaultKind::kUnresponsive;
+  int uav = 0;
+  int from_iteration = 1;  // >= 1
+  int num_iterations = 0;  // >= 0; 0: until the end
+  bool active(int iteration) const {
+    return iteration >= from_iteration &&
+           (num_iterations == 0 || iteration < from_iteration + num_iterations);
+  }
+};
+
 struct ClosedLoopConfig {
   localization::FilterKind filter_kind = localization::FilterKind::kEkf;
   localization::FilterConfig filter;        // what the filter assumes
@@ -85,6 +130,10 @@ struct ClosedLoopConfig {
   bool fallback_to_bf = true;               // degraded belief -> BF for that iteration
   GdBeliefMode gd_mode = GdBeliefMode::kMean;
   std::vector<UavBeaconOutage> outages;     // per UAV, on top of simulator.outages
+  std::vector<UavFault> faults;             // injected faults (tests, what-if runs); none
+  // The master declares a UAV unresponsive after this many iterations in a row without a
+  // measurement or a motion from it, in [1, 1000].
+  int unresponsive_after_iterations = 3;
 };
 
 // Throws std::invalid_argument naming the first bad field and its value (the nested configs
@@ -116,6 +165,12 @@ struct ClosedLoopStats {
   std::vector<std::string> mode_trace;     // [iteration - 1][uav]: 'G' or 'B'
   int escapes = 0;                         // successful stall escapes
   int refinement_covariance_fallbacks = 0; // CovarianceSource::kDeadReckoning results
+  // Measurements the master dropped as non-finite, per UAV (see "Faults" above).
+  std::vector<int> rejected_beacons;
+  std::vector<int> rejected_displacements;
+  std::vector<int> rejected_csi;
+  std::vector<int> silent_iterations;  // per UAV: iterations without a measurement or motion
+  int rejected_measurements() const;   // the sum of the three rejected_* over every UAV
 };
 
 // Optional observer of a closed-loop run (e.g. the rawlog recorder, rawlog_recorder.h). It sees
@@ -171,6 +226,9 @@ class ClosedLoopPlanner : public placement::Planner {
   // Builds the per-UAV sensors and filters (fresh seeds) and localizes epoch 0.
   void start(placement::Swarm& swarm) override;
   void iterate(placement::Swarm& swarm, int iteration) override;
+  // An unresponsive UAV or a non-finite belief (see "Faults" above); once set, iterate() does
+  // nothing more.
+  std::optional<placement::PlannerFault> fault() const override { return fault_; }
 
   // The beliefs placement uses now, one per UAV.
   const std::vector<localization::Belief>& beliefs() const { return beliefs_; }
@@ -183,6 +241,19 @@ class ClosedLoopPlanner : public placement::Planner {
   void localize(placement::Swarm& swarm, int epoch);
   Eigen::Vector3d plan_gd(const placement::Swarm& swarm, int m, int iteration) const;
   bool try_escape(placement::Swarm& swarm);
+  bool fault_active(UavFaultKind kind, int m, int iteration) const;
+  // UAV m's CSI for the refinement at iteration `iteration` (none without use_csi), screened:
+  // a non-finite row is dropped and counted.
+  std::vector<CsiMeasurement> measure_csi(int m, const Eigen::Vector3d& q_m, int iteration,
+                                          std::mt19937_64& rng);
+  bool unresponsive(int m, int iteration) const {
+    return fault_active(UavFaultKind::kUnresponsive, m, iteration);
+  }
+  // Sets fault_ (kNumericalFault) if the filter's or the placement belief of UAV m is unhealthy.
+  void check_beliefs(int m, int epoch, const Uav& uav, const localization::Belief& filtered,
+                     const localization::Belief& belief);
+  // End of iteration i: silence bookkeeping and the unresponsive-UAV rule.
+  void watch_uavs(int iteration);
 
   placement::Scenario scenario_;
   placement::GdOptions gd_options_;
@@ -197,6 +268,9 @@ class ClosedLoopPlanner : public placement::Planner {
   std::vector<localization::Belief> beliefs_;
   ClosedLoopObserver* observer_ = nullptr;
   int escape_iteration_ = 0;  // the iteration try_escape runs in (for the observer)
+  std::vector<char> heard_;    // per UAV: a measurement or a motion in the current iteration
+  std::vector<int> silent_since_;  // per UAV: first iteration of the current silence, 0: none
+  std::optional<placement::PlannerFault> fault_;
 
   // Accumulated statistics (see ClosedLoopStats).
   struct Sums {

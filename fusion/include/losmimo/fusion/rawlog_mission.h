@@ -21,6 +21,11 @@
 //     filter_sigma_angle_rad                                  (= beacon_sigma_angle_rad)
 //     degraded_after_epochs  belief degraded after N epochs without beacon (10)
 //     outages                per-UAV beacon outages "uav:first_epoch:num_epochs, ..." (none)
+//     faults                 injected faults (closed_loop.h UavFault), "kind:uav:from_iteration
+//                            [:num_iterations], ..."; kind unresponsive | nan_beacon |
+//                            nan_displacement | nan_csi; num_iterations 0 = to the end (none)
+//     unresponsive_after_iterations  the master ends the run after a UAV is silent (no
+//                            measurement, no motion) this many iterations, in [1, 1000] (3)
 //   [mission]
 //     seed                   run seed: sensors, filters, CSI, actuation (1)
 //     start_seed             draws the start positions in the start cube (1)
@@ -59,7 +64,8 @@ std::map<std::string, std::set<std::string>> mission_config_keys();
 // placement::InputError naming the file, line, key and value.
 MissionConfig load_mission_config(const placement::IniConfig& ini);
 
-// The complete configuration as INI text: every key with its effective value, so that
+// The complete configuration as INI text: every key with its effective value (faults and
+// unresponsive_after_iterations only when not the defaults), so that
 // load_mission_config(from_string(mission_to_ini(c))) gives the same mission.
 std::string mission_to_ini(const MissionConfig& config);
 

@@ -43,7 +43,9 @@ struct RecordOptions {
 RecordResult record_mission(const MissionConfig& config, const RecordOptions& options);
 
 // The app: config file (optional) + overrides -> rawlog. Returns the exit code: 0 ok, 2 bad
-// input (the message names file, line, key and value), 1 runtime error.
+// input (the message names file, line, key and value), 1 runtime error, 3 the run was ended by
+// a fault (placement::RunResult::faulted(): an unresponsive UAV or a numerical fault; the
+// reason goes to `err`, the rawlog is written and closed up to the fault).
 struct RecordAppOptions {
   std::string config_path;             // empty: built-in defaults
   std::vector<std::string> overrides;  // "section.key=value"

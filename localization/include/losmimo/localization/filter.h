@@ -19,7 +19,11 @@
 //  - noise floors on every sigma; covariance symmetrised with eigenvalues >= min_variance_m2;
 //  - degraded when epochs_since_beacon >= degraded_after_epochs, or when the largest 1-sigma
 //    axis of the covariance exceeds degraded_sigma_m;
-//  - counters of everything rejected (FilterCounters).
+//  - counters of everything rejected (FilterCounters);
+//  - numerical health: a covariance that becomes non-finite (e.g. a beacon fix at an absurd
+//    range overflows r^2 sigma_angle^2) is replaced by missing_displacement_sigma_m^2 I and
+//    counted in FilterCounters::non_finite_state; health_problem() reports it, and a
+//    non-finite or inconsistent belief, so that the caller can stop (the closed loop does).
 
 #include <cstdint>
 #include <memory>
@@ -81,6 +85,12 @@ void validate(const FilterConfig& config);
 // Throws std::invalid_argument if the belief is non-finite or its covariance not SPD.
 void validate(const Belief& belief);
 
+// The first numerical problem of a belief, or nullopt when it is healthy: a non-finite mean
+// ("mean_m(1) = nan") or covariance entry ("cov_m2(0, 2) = inf"), a negative variance
+// ("cov_m2(2, 2) = -0.5 < 0") or an asymmetric covariance. Cheap (no factorisation): for a
+// check after every epoch; validate() is the strict test (SPD) for inputs.
+std::optional<std::string> health_problem(const Belief& belief);
+
 struct FilterCounters {
   std::int64_t epochs = 0;
   std::int64_t beacons_received = 0;  // step() calls with a beacon
@@ -92,6 +102,8 @@ struct FilterCounters {
   std::int64_t resets = 0;              // re-initialisations from a beacon fix
   std::int64_t covariance_repairs = 0;  // eigenvalues raised to min_variance_m2
   std::int64_t resamplings = 0;         // particle filter only
+  // Epochs in which the state became non-finite (the covariance was reset, see above).
+  std::int64_t non_finite_state = 0;
 
   std::int64_t rejected_total() const {
     return rejected_non_finite_displacement + rejected_non_finite_beacon + rejected_geometry +
@@ -110,6 +122,11 @@ class PositionFilter {
   virtual const FilterCounters& counters() const = 0;
   virtual FilterKind kind() const = 0;
 };
+
+// The filter's health after a step: health_problem(filter.belief()), or, if the state ever
+// became non-finite (FilterCounters::non_finite_state), "state became non-finite in N
+// epoch(s), covariance reset". nullopt when healthy.
+std::optional<std::string> health_problem(const PositionFilter& filter);
 
 // A filter starting from `initial` (validated). `seed` drives the filter's own random generator
 // (the particle filter's; the EKF draws no random numbers): equal seeds, equal results, in any

@@ -4,12 +4,31 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "losmimo/placement/swarm.h"
 
 namespace losmimo::placement {
+
+enum class RunStatus {
+  kConverged,        // the ICN reached RunOptions::target_icn
+  kIterationCap,     // max_iterations without reaching it
+  kUavUnresponsive,  // the planner (the master) lost a UAV: no measurement, no motion
+  kNumericalFault,   // a non-finite position, move, channel row, Gram entry or belief
+};
+// "converged", "iteration_cap", "uav_unresponsive", "numerical_fault".
+std::string to_string(RunStatus status);
+
+// Why a planner ends a run early (Planner::fault). status is kUavUnresponsive or
+// kNumericalFault; reason names the UAV, the quantity and since when, e.g.
+// "UAV 3: no measurement and no motion for 3 iterations (since iteration 5)".
+struct PlannerFault {
+  RunStatus status = RunStatus::kNumericalFault;
+  int uav = -1;  // -1: not one UAV's
+  std::string reason;
+};
 
 // One distributed placement algorithm (GD, BF, URA, ...).
 class Planner {
@@ -20,6 +39,8 @@ class Planner {
   virtual void start(Swarm& /*swarm*/) {}
   // One pass over all UAVs; iteration counts from 1.
   virtual void iterate(Swarm& swarm, int iteration) = 0;
+  // Set once the planner has found a fault that ends the run (checked after every iterate()).
+  virtual std::optional<PlannerFault> fault() const { return std::nullopt; }
 };
 
 struct RunOptions {
@@ -53,14 +74,17 @@ struct Milestone {
   double placement_dist_m = 0.0;  // mean per UAV at that iteration
 };
 
-enum class RunStatus { kConverged, kIterationCap };
-std::string to_string(RunStatus status);
-
 struct RunResult {
   std::string planner;
   RunStatus status = RunStatus::kIterationCap;
-  int iterations = 0;
-  std::vector<IterationRecord> trace;  // iteration 0 (the start) .. iterations
+  int iterations = 0;  // iterations run (the faulted one included)
+  // Iteration 0 (the start) .. iterations. After kNumericalFault the faulted iteration is not
+  // recorded (its channel is not finite): the trace ends at iterations - 1.
+  std::vector<IterationRecord> trace;
+  // kUavUnresponsive and kNumericalFault: what went wrong, e.g. "UAV 7: channel row is
+  // non-finite (H(7, 2) = nan) at iteration 40"; empty otherwise.
+  std::string fault;
+  int fault_uav = -1;  // the UAV the fault names, -1 for none
   Milestone icn050;
   Milestone icn095;
   Eigen::Matrix3Xd start_m;
@@ -68,9 +92,24 @@ struct RunResult {
   Eigen::VectorXd placement_dist_m;  // per UAV
   Eigen::VectorXd probe_dist_m;      // per UAV
   bool converged() const { return status == RunStatus::kConverged; }
+  bool faulted() const {
+    return status == RunStatus::kUavUnresponsive || status == RunStatus::kNumericalFault;
+  }
 };
 
+// Runs the planner until the ICN reaches the target, the iteration cap, or a fault. Health,
+// after start() and after every iterate(), before the ICN is evaluated (O(Nr Nt + Nt^2)):
+//  1. the planner's fault() (e.g. the closed loop's unresponsive UAV or non-finite belief);
+//  2. Swarm::numerical_fault(): the first non-finite commanded move (the Swarm refused it);
+//  3. check_finite(swarm): true positions, channel rows and Gram matrix all finite.
+// The first of these found ends the run with its status; a fault wins over convergence in the
+// same iteration. Runs without a fault are unchanged by these checks.
 RunResult run_placement(Planner& planner, Swarm& swarm, const RunOptions& options);
+
+// The first non-finite quantity of the swarm, or nullopt: a true position (UAV m, "position
+// is non-finite (q = (...))"), a channel row ("channel row is non-finite (H(m, k) = ...)") or,
+// with every row finite, a Gram entry (uav -1). status is kNumericalFault.
+std::optional<PlannerFault> check_finite(const Swarm& swarm);
 
 // ICN from the Gram matrix G = H^H H: sqrt(lambda_min / lambda_max); 0 when Nr < Nt.
 // Cheaper than the SVD of H (Nt x Nt eigenproblem) and equal to it above ~1e-6.

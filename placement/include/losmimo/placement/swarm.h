@@ -12,7 +12,9 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <random>
+#include <string>
 
 #include "losmimo/placement/swarm_channel.h"
 
@@ -30,6 +32,12 @@ void validate(const ErrorModel& errors);
 
 enum class MotionKind { kPlacement, kProbe };
 
+// A non-finite move the Swarm refused (Swarm::numerical_fault).
+struct SwarmFault {
+  int uav = -1;
+  std::string reason;  // "UAV 3: commanded move is non-finite (r = (nan, 0, 0))"
+};
+
 class Swarm {
  public:
   Swarm(const ChannelModel& model, const Eigen::Matrix3Xd& start_m, const ErrorModel& errors,
@@ -45,7 +53,10 @@ class Swarm {
   // Commands UAV m to move by r_m; returns the true displacement. With update_channel false
   // the channel keeps UAV m's old row until sync_channel(m): BF's probe flights measure the
   // row at the probe point through UavObjective, and the others' Gram matrix stays fixed.
+  // A non-finite r_m, or a move that would leave a non-finite position, is refused: the UAV
+  // stays, the move returns zero and the first such move is kept in numerical_fault().
   Eigen::Vector3d move(int m, const Eigen::Vector3d& r_m, MotionKind kind, bool update_channel = true);
+  const std::optional<SwarmFault>& numerical_fault() const { return fault_; }
   // UAV m's channel row at its true position (what it measures now, noise-free).
   Eigen::VectorXcd measure_row(int m) const { return channel_.model().row(q_m_.col(m)); }
   void sync_channel(int m) { channel_.set_position(m, q_m_.col(m)); }
@@ -70,6 +81,7 @@ class Swarm {
   Eigen::VectorXd placement_dist_m_;
   Eigen::VectorXd probe_dist_m_;
   PositionEstimator estimator_;
+  std::optional<SwarmFault> fault_;
 };
 
 }  // namespace losmimo::placement
