@@ -25,8 +25,15 @@ void validate(const GdOptions& o) {
     throw std::invalid_argument(msg.str());
   }
   require_positive("gd.stall_min_decrease", o.stall_min_decrease);
+  require_positive("gd.depth_step_gain", o.depth_step_gain);
   if (o.stall_window < 1 || o.stall_window > 100000)
     throw std::invalid_argument("gd.stall_window = " + std::to_string(o.stall_window) +
+                                ": must be in [1, 100000]");
+  if (o.escape_half_grid < 1 || o.escape_half_grid > 256)
+    throw std::invalid_argument("gd.escape_half_grid = " + std::to_string(o.escape_half_grid) +
+                                ": must be in [1, 256]");
+  if (o.escape_uavs < 1 || o.escape_uavs > 100000)
+    throw std::invalid_argument("gd.escape_uavs = " + std::to_string(o.escape_uavs) +
                                 ": must be in [1, 100000]");
   if (o.max_halvings < 0 || o.max_halvings > 60)
     throw std::invalid_argument("gd.max_halvings = " + std::to_string(o.max_halvings) +
@@ -47,18 +54,23 @@ void GradientDescentPlanner::start(Swarm& /*swarm*/) {
 }
 
 bool GradientDescentPlanner::try_escape(Swarm& swarm) {
+  // The escape_uavs most redundant UAVs from escape_rank_ on search in turn, each seeing the
+  // moves of those before it. With escape_uavs = 1 this is the one-UAV escape of the paper setup.
   const std::vector<int> order = uavs_by_redundancy(swarm.channel());
-  const int m = order[escape_rank_ % static_cast<int>(order.size())];
-  const Eigen::Vector3d q_hat = swarm.estimate_position(m);
-  const LateralSearch search = search_lateral_period(
-      UavObjective(swarm.channel(), m), q_hat, lateral_period_m(wavelength_m_, q_hat.x(), bs_spacing_m_));
-  if (search.best_objective < (1.0 - options_.stall_min_decrease) * search.objective_at_start) {
-    swarm.move(m, search.offset_m, MotionKind::kPlacement);
-    escape_rank_ = 0;
-    return true;
+  bool moved = false;
+  for (int k = 0; k < options_.escape_uavs; ++k) {
+    const int m = order[(escape_rank_ + k) % static_cast<int>(order.size())];
+    const Eigen::Vector3d q_hat = swarm.estimate_position(m);
+    const LateralSearch search =
+        search_lateral_period(UavObjective(swarm.channel(), m), q_hat,
+                              lateral_period_m(wavelength_m_, q_hat.x(), bs_spacing_m_), options_.escape_half_grid);
+    if (search.best_objective < (1.0 - options_.stall_min_decrease) * search.objective_at_start) {
+      swarm.move(m, search.offset_m, MotionKind::kPlacement);
+      moved = true;
+    }
   }
-  ++escape_rank_;
-  return false;
+  escape_rank_ = moved ? 0 : escape_rank_ + options_.escape_uavs;
+  return moved;
 }
 
 Eigen::Vector3d GradientDescentPlanner::plan_move(const Swarm& swarm, int m,
@@ -69,6 +81,7 @@ Eigen::Vector3d GradientDescentPlanner::plan_move(const Swarm& swarm, int m,
   double f0 = 0.0;  // f at q_hat_m, from the gradient's channel row (one row, Nt sincos, less)
   Eigen::Vector3d r = -b * view.gradient_at(q_hat_m, options_.backtracking ? &f0 : nullptr) / swarm.num_uavs();
   if (!r.allFinite()) return Eigen::Vector3d::Zero();
+  if (options_.depth_step_gain != 1.0) r.x() *= options_.depth_step_gain;
   const double norm = r.norm();
   if (norm > options_.max_move_m) r *= options_.max_move_m / norm;
   if (options_.backtracking) {

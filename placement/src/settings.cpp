@@ -14,7 +14,7 @@ std::map<std::string, std::set<std::string>> placement_config_keys() {
       {"errors", {"sigma_loc_m", "sigma_act_m"}},
       {"placement", {"target_icn", "max_iterations"}},
       {"gd", {"step", "decay", "max_move_m", "backtracking", "max_halvings", "escape",
-              "stall_window", "stall_min_decrease"}},
+              "stall_window", "stall_min_decrease", "escape_half_grid", "escape_uavs", "depth_step_gain"}},
       {"bf", {"step", "decay", "contraction", "min_step_m", "escape", "stall_window",
               "stall_min_decrease"}},
   };
@@ -83,6 +83,10 @@ PlacementSettings load_placement_settings(const IniConfig& cfg) {
   gd.escape = cfg.get_bool("gd", "escape", gd.escape);
   gd.stall_window = static_cast<int>(cfg.get_integer("gd", "stall_window", gd.stall_window, 1, kIntMax));
   gd.stall_min_decrease = cfg.get_double("gd", "stall_min_decrease", gd.stall_min_decrease);
+  gd.escape_half_grid =
+      static_cast<int>(cfg.get_integer("gd", "escape_half_grid", gd.escape_half_grid, 1, 256));
+  gd.escape_uavs = static_cast<int>(cfg.get_integer("gd", "escape_uavs", gd.escape_uavs, 1, 100000));
+  gd.depth_step_gain = cfg.get_double("gd", "depth_step_gain", gd.depth_step_gain);
   check(cfg, "gd", [&] { validate(gd); });
 
   BfOptions& bf = s.bf;
@@ -116,7 +120,13 @@ std::string to_ini(const PlacementSettings& s) {
   o << "[gd]\nstep = " << format_double(s.gd.step) << "\ndecay = " << format_double(s.gd.decay) << "\nmax_move_m = " << format_double(s.gd.max_move_m)
     << "\nbacktracking = " << b(s.gd.backtracking) << "\nmax_halvings = " << s.gd.max_halvings
     << "\nescape = " << b(s.gd.escape) << "\nstall_window = " << s.gd.stall_window
-    << "\nstall_min_decrease = " << format_double(s.gd.stall_min_decrease) << "\n\n";
+    << "\nstall_min_decrease = " << format_double(s.gd.stall_min_decrease) << "\n";
+  // The large-swarm keys only when set, so that the defaults' text (paper.ini) is unchanged.
+  const GdOptions gd_defaults;
+  if (s.gd.escape_half_grid != gd_defaults.escape_half_grid) o << "escape_half_grid = " << s.gd.escape_half_grid << "\n";
+  if (s.gd.escape_uavs != gd_defaults.escape_uavs) o << "escape_uavs = " << s.gd.escape_uavs << "\n";
+  if (s.gd.depth_step_gain != gd_defaults.depth_step_gain) o << "depth_step_gain = " << format_double(s.gd.depth_step_gain) << "\n";
+  o << "\n";
   o << "[bf]\nstep = " << format_double(s.bf.step) << "\ndecay = " << format_double(s.bf.decay) << "\ncontraction = " << format_double(s.bf.contraction)
     << "\nmin_step_m = " << format_double(s.bf.min_step_m) << "\nescape = " << b(s.bf.escape)
     << "\nstall_window = " << s.bf.stall_window << "\nstall_min_decrease = " << format_double(s.bf.stall_min_decrease)

@@ -35,14 +35,15 @@ double lateral_period_m(double wavelength_m, double depth_m, double bs_spacing_m
   return wavelength_m * depth_m / bs_spacing_m;
 }
 
-LateralSearch search_lateral_period(const UavObjective& view, const Eigen::Vector3d& q_m, double period_m) {
-  constexpr int kHalfGrid = 4;  // (2 * 4 + 1)^2 candidates, spacing period / 8
-  const double spacing = period_m / (2 * kHalfGrid);
+LateralSearch search_lateral_period(const UavObjective& view, const Eigen::Vector3d& q_m, double period_m,
+                                    int half_grid) {
+  // (2 half_grid + 1)^2 candidates, spacing period / (2 half_grid)
+  const double spacing = period_m / (2 * half_grid);
   LateralSearch result;
   result.objective_at_start = view.objective_at(q_m);
   result.best_objective = result.objective_at_start;
-  for (int i = -kHalfGrid; i <= kHalfGrid; ++i) {
-    for (int j = -kHalfGrid; j <= kHalfGrid; ++j) {
+  for (int i = -half_grid; i <= half_grid; ++i) {
+    for (int j = -half_grid; j <= half_grid; ++j) {
       const Eigen::Vector3d offset(0.0, i * spacing, j * spacing);
       const double f = view.objective_at(q_m + offset);
       if (f < result.best_objective) {

@@ -1,6 +1,8 @@
 #include "losmimo/placement/ura.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "losmimo/placement/assignment.h"
@@ -8,6 +10,8 @@
 namespace losmimo::placement {
 
 namespace {
+constexpr double kPi = 3.14159265358979323846;
+
 // Lateral offsets of slot s (y, z) per metre of depth: the URA's angular layout.
 Eigen::Vector2d slot_angle_rad(const Scenario& s, int slot) {
   const double lambda = s.wavelength_m();
@@ -29,6 +33,15 @@ Eigen::Matrix3Xd optimal_ura_positions_m(const Scenario& s) {
   return q;
 }
 
+double lattice_depth_band_m(const Scenario& s) {
+  const double half_y = 0.5 * (s.bs_cols - 1) * s.bs_spacing_m;
+  const double half_z = 0.5 * (s.bs_rows - 1) * s.bs_spacing_m;
+  const double rho_max_sq = half_y * half_y + half_z * half_z;
+  const double range = s.cube_center_m.norm();
+  if (!(rho_max_sq > 0.0)) return std::numeric_limits<double>::infinity();
+  return kLatticeFresnelTolerance_rad * s.wavelength_m() * range * range / (kPi * rho_max_sq);
+}
+
 UraPlanner::UraPlanner(const Scenario& scenario, UraVariant variant)
     : scenario_(scenario), variant_(variant) {
   if (scenario.num_uavs != scenario.num_bs_antennas()) {
@@ -38,8 +51,18 @@ UraPlanner::UraPlanner(const Scenario& scenario, UraVariant variant)
   }
 }
 
+std::string UraPlanner::name() const {
+  switch (variant_) {
+    case UraVariant::kRigid: return "ura";
+    case UraVariant::kLattice: return "ura_lattice";
+    case UraVariant::kLatticeExact: return "ura_lattice_exact";
+  }
+  return "ura";
+}
+
 Eigen::Vector3d UraPlanner::nearest_lattice_point_m(int slot, const Eigen::Vector3d& q_m) const {
   const Scenario& s = scenario_;
+  if (variant_ == UraVariant::kLatticeExact) return nearest_exact_lattice_point_m(slot, q_m);
   const double depth = q_m.x();
   const Eigen::Vector2d a = slot_angle_rad(s, slot);
   // The centre keeps its angle from the BS, so a common lateral shift stays column-common.
@@ -49,6 +72,23 @@ Eigen::Vector3d UraPlanner::nearest_lattice_point_m(int slot, const Eigen::Vecto
   const double y = y0 + period * std::round((q_m.y() - y0) / period);
   const double z = z0 + period * std::round((q_m.z() - z0) / period);
   return {depth, y, z};
+}
+
+Eigen::Vector3d UraPlanner::nearest_exact_lattice_point_m(int slot, const Eigen::Vector3d& q_m) const {
+  const Scenario& s = scenario_;
+  const Eigen::Vector3d& c = s.cube_center_m;
+  const double band = lattice_depth_band_m(s);
+  const double depth = std::clamp(q_m.x(), c.x() - band, c.x() + band);
+  // Direction cosines (u, v) = (y, z) / |q|: the slot's, shifted by whole periods lambda / d_t
+  // to the nearest of the UAV's own.
+  const Eigen::Vector2d a = slot_angle_rad(s, slot);
+  const double u0 = c.y() / c.norm() + a.x();
+  const double v0 = c.z() / c.norm() + a.y();
+  const double period = s.wavelength_m() / s.bs_spacing_m;
+  const double u = u0 + period * std::round((q_m.y() / q_m.norm() - u0) / period);
+  const double v = v0 + period * std::round((q_m.z() / q_m.norm() - v0) / period);
+  const double range = depth / std::sqrt(1.0 - u * u - v * v);
+  return {depth, u * range, v * range};
 }
 
 void UraPlanner::start(Swarm& swarm) {

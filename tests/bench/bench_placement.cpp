@@ -1,7 +1,7 @@
 // Placement hot paths on the paper's geometry (1 km, 60 GHz, BS spacing 0.25 m), at
 // Nt = Nr = 16, 64, 256 (BS 4x4, 8x8, 16x16). Built with the tests, not run by ctest:
 //   bench_placement --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
-//   bench_placement --benchmark_filter=Swarm256      (256 UAVs to ICN 0.95: GD, lattice URA)
+//   bench_placement --benchmark_filter=Swarm256      (256 UAVs to ICN 0.95: GD, URAs)
 //
 // - Probe: BF's probe evaluation: UAV m's channel row at a probe point (Nt sincos) and f with
 //   the others fixed (one Nt x Nt Hermitian form); items/s = probes/s.
@@ -171,10 +171,36 @@ void BM_Swarm256_Gd(benchmark::State& state) {
 }
 BENCHMARK(BM_Swarm256_Gd)->Iterations(1)->Unit(benchmark::kSecond);
 
+// GD scaled to the 16 x 16 array (gd.h): a 17 x 17 escape grid (slots are period / 16 apart),
+// 32 UAVs per stall, a 10-iteration stall window, and depth steps x1000 (the Fresnel phase).
+GdOptions large_swarm_gd() {
+  GdOptions o;
+  o.escape_half_grid = 8;
+  o.escape_uavs = 32;
+  o.stall_window = 10;
+  o.depth_step_gain = 1000.0;
+  return o;
+}
+
+void BM_Swarm256_GdLargeEscape(benchmark::State& state) {
+  swarm256(state, [](const Scenario& s) { return GradientDescentPlanner(s, large_swarm_gd()); });
+}
+BENCHMARK(BM_Swarm256_GdLargeEscape)->Iterations(1)->Unit(benchmark::kSecond);
+
+void BM_Swarm256_Ura(benchmark::State& state) {
+  swarm256(state, [](const Scenario& s) { return UraPlanner(s, UraVariant::kRigid); });
+}
+BENCHMARK(BM_Swarm256_Ura)->Iterations(1)->Unit(benchmark::kSecond);
+
 void BM_Swarm256_UraLattice(benchmark::State& state) {
   swarm256(state, [](const Scenario& s) { return UraPlanner(s, UraVariant::kLattice); });
 }
 BENCHMARK(BM_Swarm256_UraLattice)->Iterations(1)->Unit(benchmark::kSecond);
+
+void BM_Swarm256_UraLatticeExact(benchmark::State& state) {
+  swarm256(state, [](const Scenario& s) { return UraPlanner(s, UraVariant::kLatticeExact); });
+}
+BENCHMARK(BM_Swarm256_UraLatticeExact)->Iterations(1)->Unit(benchmark::kSecond);
 
 }  // namespace
 }  // namespace losmimo::placement

@@ -19,6 +19,19 @@
 // on, when f stalls (stall.h) the most redundant UAV evaluates f under its own model on a
 // lateral grid spanning one lateral period around where it believes it is and jumps to the
 // best point if that lowers f; the next stall tries the next most redundant UAV.
+//
+// Large swarms (e.g. 256 UAVs, BS 16 x 16): from a random start about a third of the UAVs
+// share a slot with another (slots are period / n apart on an n x n BS array), and a single UAV
+// step cannot cross an occupied slot, so f stalls within ~20 iterations. Three options, whose
+// defaults are the paper-setup behaviour above, scale GD with the array:
+// - escape_half_grid: the lateral grid must resolve slots period / n apart (half_grid >= n / 2);
+// - escape_uavs: how many of the most redundant UAVs search at each stall, in turn;
+// - depth_step_gain: near the optimum the remaining error is the BS aperture's Fresnel phase
+//   of UAVs at different depths (ura.h), along which f varies ~x / rho times more slowly than
+//   laterally; with gain 1 GD stalls there (ICN 0.943 on 16 x 16).
+// Measured on 16 x 16 from a random start (tests/bench/bench_placement.cpp, Swarm256): with
+// half grid 8, 32 UAVs per stall, stall window 10 and depth gain 1000, ICN 0.95 in ~410
+// iterations.
 
 #include "losmimo/placement/run.h"
 #include "losmimo/placement/stall.h"
@@ -34,6 +47,15 @@ struct GdOptions {
   bool escape = true;
   int stall_window = 20;             // iterations
   double stall_min_decrease = 0.01;  // relative decrease of f over the window
+  // Escape search grid: (2 h + 1)^2 lateral points, spaced period / (2 h) (stall.h).
+  int escape_half_grid = kDefaultLateralHalfGrid;
+  // UAVs that search at each stall, the most redundant first (each with the others' moves so far).
+  int escape_uavs = 1;
+  // Multiplies the depth (x, along the link) component of the step before the cap. f varies
+  // along the link only through the BS aperture's Fresnel phase pi rho^2 / (lambda x), about
+  // x / rho times more slowly than laterally, so a large array needs a gain of that order for
+  // the UAVs to even out their depths; 1 leaves the step as the paper's.
+  double depth_step_gain = 1.0;
 };
 void validate(const GdOptions& options);
 

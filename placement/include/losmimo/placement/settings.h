@@ -6,7 +6,7 @@
 //   [errors]    sigma_loc_m sigma_act_m
 //   [placement] target_icn max_iterations
 //   [gd]        step decay max_move_m backtracking max_halvings escape stall_window
-//               stall_min_decrease
+//               stall_min_decrease escape_half_grid escape_uavs depth_step_gain
 //   [bf]        step decay contraction min_step_m escape stall_window stall_min_decrease
 
 #include <map>

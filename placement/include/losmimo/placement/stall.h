@@ -38,12 +38,17 @@ std::vector<int> uavs_by_redundancy(const SwarmChannel& channel);
 double lateral_period_m(double wavelength_m, double depth_m, double bs_spacing_m);
 
 // The escape search of a UAV that knows (or believes) its position q_m: f under its own model
-// on the lateral grid (0, i s, j s), |i|, |j| <= 4, s = period / 8, around q_m.
+// on the lateral grid (0, i s, j s), |i|, |j| <= half_grid, s = period / (2 half_grid), around
+// q_m. The default (9 x 9, s = period / 8) suits the paper's 4 x 4 BS array, whose slots are a
+// quarter period apart; an n x n array's slots are period / n apart, so a 16 x 16 array needs
+// half_grid >= 8 (slot spacing 1.25 m at 1 km) for the grid to reach every slot.
+inline constexpr int kDefaultLateralHalfGrid = 4;
 struct LateralSearch {
   Eigen::Vector3d offset_m = Eigen::Vector3d::Zero();  // the best grid offset (0 if none is lower)
   double best_objective = 0.0;
   double objective_at_start = 0.0;
 };
-LateralSearch search_lateral_period(const UavObjective& view, const Eigen::Vector3d& q_m, double period_m);
+LateralSearch search_lateral_period(const UavObjective& view, const Eigen::Vector3d& q_m, double period_m,
+                                    int half_grid = kDefaultLateralHalfGrid);
 
 }  // namespace losmimo::placement
