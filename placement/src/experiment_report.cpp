@@ -81,6 +81,7 @@ const char* color(Algorithm a) {
     case Algorithm::kBf: return "#d62728";
     case Algorithm::kUra: return "#2ca02c";
     case Algorithm::kUraLattice: return "#ff7f0e";
+    case Algorithm::kUraLatticeExact: return "#9467bd";
     case Algorithm::kRandom: return "#7f7f7f";
   }
   return "#000000";

@@ -11,7 +11,8 @@ namespace losmimo::placement {
 
 namespace {
 constexpr Algorithm kAllAlgorithms[] = {Algorithm::kRandom, Algorithm::kGd, Algorithm::kBf,
-                                        Algorithm::kUra, Algorithm::kUraLattice};
+                                        Algorithm::kUra, Algorithm::kUraLattice,
+                                        Algorithm::kUraLatticeExact};
 
 std::vector<double> parse_sigma_list(const IniConfig& cfg, const std::string& key,
                                      const std::vector<double>& fallback) {
@@ -48,6 +49,7 @@ std::string to_string(Algorithm a) {
     case Algorithm::kBf: return "bf";
     case Algorithm::kUra: return "ura";
     case Algorithm::kUraLattice: return "ura_lattice";
+    case Algorithm::kUraLatticeExact: return "ura_lattice_exact";
   }
   return "?";
 }
@@ -56,7 +58,7 @@ Algorithm algorithm_from_string(const std::string& name, const std::string& wher
   for (const Algorithm a : kAllAlgorithms) {
     if (to_string(a) == name) return a;
   }
-  throw InputError(where + ": unknown algorithm '" + name + "' (known: random, gd, bf, ura, ura_lattice)");
+  throw InputError(where + ": unknown algorithm '" + name + "' (known: random, gd, bf, ura, ura_lattice, ura_lattice_exact)");
 }
 
 const SweepPoints* ExperimentSettings::sweep(const std::string& name) const {
@@ -126,7 +128,7 @@ ExperimentSettings load_experiment_settings(const IniConfig& cfg, const Experime
   const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
   const bool has_ura = [&] {
     for (const Algorithm a : s.algorithms) {
-      if (a == Algorithm::kUra || a == Algorithm::kUraLattice) return true;
+      if (a == Algorithm::kUra || a == Algorithm::kUraLattice || a == Algorithm::kUraLatticeExact) return true;
     }
     return false;
   }();

@@ -18,6 +18,8 @@ std::unique_ptr<Planner> make_planner(const PlacementSettings& p, Algorithm a) {
     case Algorithm::kBf: return std::make_unique<BruteForcePlanner>(p.scenario, p.bf);
     case Algorithm::kUra: return std::make_unique<UraPlanner>(p.scenario, UraVariant::kRigid);
     case Algorithm::kUraLattice: return std::make_unique<UraPlanner>(p.scenario, UraVariant::kLattice);
+    case Algorithm::kUraLatticeExact:
+      return std::make_unique<UraPlanner>(p.scenario, UraVariant::kLatticeExact);
     case Algorithm::kRandom: break;
   }
   return nullptr;

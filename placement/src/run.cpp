@@ -87,9 +87,18 @@ namespace {
 // Cholesky of G - sI fails only if lambda_min(G - sI) <= c n^2 eps ||G||: so a failure with
 // this margin (far above that rounding) proves lambda_min(G) < s.
 bool cholesky_fails(const Eigen::MatrixXcd& G, double s) {
-  Eigen::MatrixXcd M = G;
+  // On the real embedding [[Re, -Im], [Im, Re]] of G - sI (symmetric, the same eigenvalues,
+  // each twice): Eigen's complex LLT also computes an L1 norm with one hypot per entry, which
+  // cost more than the factorisation. Built in place in per-thread scratch: no allocation.
+  const Eigen::Index n = G.cols();
+  thread_local Eigen::MatrixXd M;
+  M.resize(2 * n, 2 * n);
+  M.topLeftCorner(n, n) = G.real();
+  M.bottomRightCorner(n, n) = G.real();
+  M.bottomLeftCorner(n, n) = G.imag();
+  M.topRightCorner(n, n) = -G.imag();
   M.diagonal().array() -= s;
-  const Eigen::LLT<Eigen::MatrixXcd> llt(M);
+  const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(M);  // factorises M in place
   return llt.info() != Eigen::Success;
 }
 }  // namespace

@@ -179,3 +179,25 @@ TEST(ExperimentStats, Estimate_MatchesStudentTClosedForm) {
   EXPECT_DOUBLE_EQ(e.mean, 5.5);
   EXPECT_NEAR(e.ci95, 2.262157 * std::sqrt(55.0 / 6.0) / std::sqrt(10.0), 0.003 * e.ci95);
 }
+
+TEST(ExperimentAlgorithms, UraLatticeExact_IsSelectableAndConvergesWithoutErrors) {
+  // GIVEN: only the exact lattice, no errors (sigma 0), two trials
+  const fs::path dir = fs::path(::testing::TempDir()) / ("losmimo_exp_exact_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  lp::ExperimentOptions o;
+  o.out_dir = dir.string();
+  o.threads = 1;
+  o.overrides = {"experiment.trials=2", "experiment.sweeps=sigma_loc_m", "experiment.sigma_loc_values_m=0",
+                 "experiment.algorithms=ura_lattice_exact", "experiment.plots=false", "experiment.fig1_trials=0"};
+  ASSERT_EQ(run(o), 0);
+  const auto rows = read_csv(dir / "trials.csv");
+  ASSERT_EQ(rows.size(), 3u);
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    // THEN: it is named in trials.csv and reaches ICN 0.95 in its first iteration, as ura does
+    EXPECT_EQ(rows[i][2], "ura_lattice_exact");
+    EXPECT_EQ(rows[i][5], "1") << "iterations";
+    EXPECT_EQ(rows[i][6], "1") << "converged";
+    EXPECT_GE(std::stod(rows[i][7]), 0.95) << "final_icn";
+  }
+  fs::remove_all(dir);
+}

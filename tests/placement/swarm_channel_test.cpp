@@ -127,3 +127,28 @@ TEST(SwarmChannel, CachedGramAfter1000Moves_EqualsFullRecompute) {
   EXPECT_NEAR(swarm.objective(), full, 1e-9 * full);
   EXPECT_LT((swarm.gram() - model.matrix(q).adjoint() * model.matrix(q)).norm(), 1e-9 * swarm.gram().norm());
 }
+
+TEST(SwarmChannel, GramStaysExactlyHermitianThroughUpdatesAndRefreshes) {
+  // GIVEN: 600 moves (two periodic refreshes), exact-gain rows (not unit modulus)
+  lp::Scenario s;
+  s.gain_model = lp::GainModel::kExact;
+  const lp::ChannelModel model(s);
+  Eigen::Matrix3Xd q = random_start(s, 5);
+  lp::SwarmChannel swarm(model, q);
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<int> pick(0, 15);
+  std::normal_distribution<double> step(0.0, 0.3);
+  for (int i = 0; i < 600; ++i) {
+    const int m = pick(rng);
+    q.col(m) += Eigen::Vector3d(step(rng), step(rng), step(rng));
+    swarm.set_position(m, q.col(m));
+    // THEN: G(l, k) is conj(G(k, l)) to the bit and the diagonal is real, after every update
+    const Eigen::MatrixXcd& G = swarm.gram();
+    for (Eigen::Index k = 0; k < G.cols(); ++k) {
+      ASSERT_EQ(G(k, k).imag(), 0.0) << "move " << i;
+      for (Eigen::Index l = k + 1; l < G.rows(); ++l) {
+        ASSERT_EQ(G(l, k), std::conj(G(k, l))) << "move " << i << " entry " << l << "," << k;
+      }
+    }
+  }
+}

@@ -10,13 +10,10 @@
 
 #include <Eigen/Core>
 
+#include "losmimo/placement/phasor.h"
 #include "losmimo/placement/scenario.h"
 
 namespace losmimo::placement {
-
-// std::remainder(x, 2 pi), bit for bit, without glibc's slow generic path (phase reduction
-// of the channel rows: |x| ~ 1e6 rad at 1 km and 60 GHz).
-double remainder_two_pi(double x);
 
 class ChannelModel {
  public:
@@ -43,6 +40,7 @@ class ChannelModel {
 
  private:
   Eigen::Matrix3Xd antennas_m_;
+  Eigen::ArrayXd ax_m_, ay_m_, az_m_;  // the antennas' coordinates, one array per axis
   double wavenumber_rad_per_m_;
   double range_m_;
   GainModel gain_model_;

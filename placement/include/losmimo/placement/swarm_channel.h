@@ -51,8 +51,15 @@ class UavObjective {
   Eigen::Vector3d gradient_at(const Eigen::Vector3d& q_m, double* objective = nullptr) const;
 
  private:
+  // conj(A) x in real arithmetic: (Re + j Im)(conj(A)) x, split into real matrices so that
+  // the kernel vectorises (Eigen's complex matrix-vector product does not, at Nt = 16).
+  void apply_conj_A(const Eigen::VectorXcd& x, Eigen::VectorXcd& Ax) const;
+  // f from the row, its powers p = |x|^2 and conj(A) x.
+  double objective_given(const Eigen::VectorXcd& x, const Eigen::ArrayXd& p, const Eigen::VectorXcd& Ax) const;
+
   const ChannelModel* model_;
-  Eigen::MatrixXcd A_conj_;  // conj(A) = A^T
+  Eigen::MatrixXd A_conj_re_;  // Re(conj(A)) = Re(A)
+  Eigen::MatrixXd A_conj_im_;  // Im(conj(A)) = -Im(A)
   Eigen::VectorXd A_diag_;
   double F_A_;
 };
