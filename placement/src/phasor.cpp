@@ -25,7 +25,7 @@ inline double fast_remainder(double x, bool& ok) {
   // the nearest one, so an accepted r is the exact IEEE remainder.
   const double n = (x * kInvTwoPi + kRound) - kRound;  // not reassociated without -ffast-math
   const double r = (x - n * kHi) - n * kLo;
-  ok = (std::abs(x) < kMaxAbs) & (std::abs(r) < 0.5 * kTwoPi);  // & not &&: no branch
+  ok = std::abs(x) < kMaxAbs && std::abs(r) < 0.5 * kTwoPi;
   return r;
 }
 
