@@ -100,7 +100,6 @@ UavObjective::UavObjective(const SwarmChannel& swarm, int m) : model_(&swarm.mod
   x = H.row(m).transpose();
   const double* xn = reinterpret_cast<const double*>(x.data());
   A_diag_.resize(nt);
-  double off_diagonal = 0.0;
   for (Eigen::Index k = 0; k < nt; ++k) {
     const double c = xn[2 * k], d = xn[2 * k + 1];
     const double* g = reinterpret_cast<const double*>(G.col(k).data());
@@ -113,8 +112,7 @@ UavObjective::UavObjective(const SwarmChannel& swarm, int m) : model_(&swarm.mod
     }
     A_diag_(k) = re[k];
   }
-  off_diagonal = A_conj_re_.squaredNorm() + A_conj_im_.squaredNorm() - A_diag_.squaredNorm();
-  F_A_ = off_diagonal;
+  F_A_ = A_conj_re_.squaredNorm() + A_conj_im_.squaredNorm() - A_diag_.squaredNorm();
 }
 
 void UavObjective::apply_conj_A(const Eigen::VectorXcd& x, Eigen::VectorXcd& Ax) const {
