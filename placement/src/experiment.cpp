@@ -517,7 +517,7 @@ void write_stream_atomically(const fs::path& path, const std::function<void(std:
 // Everything after the runs: trials/positions (from the records unless renamed from the
 // partial files), traces, summary, figures and report.
 void finish_outputs(const ExperimentSettings& settings, const ExperimentExtensions& extensions,
-                    const ExperimentResults& results, const fs::path& dir, double wall_s, int threads,
+                    const ExperimentResults& results, const fs::path& dir, const RunTiming& timing,
                     bool trial_files_written, std::ostream& out, std::ostream& err) {
   const std::vector<std::string> extra = extra_metric_names(settings, extensions);
   if (!trial_files_written) {
@@ -536,11 +536,11 @@ void finish_outputs(const ExperimentSettings& settings, const ExperimentExtensio
   const std::vector<SummaryRow> rows = summarize(results.records, extra);
   write_summary_csv(summary, rows);
   write_file_atomically((dir / "summary.csv").string(), summary.str());
-  const ReportOutcome report = write_figures_and_report(settings, extensions, results, rows, dir.string(), wall_s, threads);
+  const ReportOutcome report = write_figures_and_report(settings, extensions, results, rows, dir.string(), timing);
   for (const std::string& w : report.warnings) err << "losmimo-experiment: warning: " << w << "\n";
   out << "losmimo-experiment: " << results.records.size() << " trial rows, " << settings.trials
-      << " trials per point, " << threads << " threads, " << std::fixed << std::setprecision(1) << wall_s
-      << " s; results in " << dir.string() << "/ (report.md, summary.csv, trials.csv, fig*.png)\n";
+      << " trials per point, " << describe(timing) << "; results in " << dir.string()
+      << "/ (report.md, summary.csv, trials.csv, fig*.png)\n";
 }
 
 // Orders the records of complete shards as one process would have; InputError if a job is
@@ -689,7 +689,7 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
       const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       fs::create_directories(dir);
       write_file_atomically((dir / "config.ini").string(), to_ini(settings));
-      finish_outputs(settings, extensions, results, dir, wall_s, threads * collective->size, false, out, err);
+      finish_outputs(settings, extensions, results, dir, {wall_s, threads * collective->size}, false, out, err);
       return 0;
     }
 
@@ -758,7 +758,9 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
       std::ostringstream shard;
       shard << "# losmimo-experiment shard: merge the folders of shards 0.." << slice.shard_count - 1
             << " with `losmimo-experiment merge`\n[shard]\nindex = " << slice.shard_index
-            << "\ncount = " << slice.shard_count << "\n";
+            << "\ncount = " << slice.shard_count << "\n"
+            << "# this shard's run, reported by the merge\nthreads = " << threads << "\nwall_s = "
+            << std::setprecision(17) << wall_s << "\n";
       write_file_atomically((dir / "shard.ini").string(), shard.str());
       out << "losmimo-experiment: shard " << slice.shard_index << "/" << slice.shard_count << ": "
           << results.records.size() << " trial rows, " << threads << " threads, " << std::fixed
@@ -770,7 +772,7 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
     if (!trials_part || !positions_part) throw std::runtime_error("writing trials/positions failed");
     fs::rename(dir / "trials.csv.partial", dir / "trials.csv");
     fs::rename(dir / "positions.csv.partial", dir / "positions.csv");
-    finish_outputs(settings, extensions, results, dir, wall_s, threads, true, out, err);
+    finish_outputs(settings, extensions, results, dir, {wall_s, threads}, true, out, err);
     fs::remove(dir / "records.partial");
     return 0;
   } catch (const InputError& e) {
@@ -782,10 +784,32 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
   }
 }
 
+namespace {
+// Adds a shard's own run (its shard.ini `threads` and `wall_s`) to the merge's timing. False
+// when the shard did not record them (a folder written before they were).
+bool add_shard_timing(const IniConfig& shard_ini, RunTiming& timing) {
+  if (!shard_ini.has("shard", "wall_s") || !shard_ini.has("shard", "threads")) return false;
+  const double wall_s = shard_ini.get_double("shard", "wall_s", 0.0);
+  if (!std::isfinite(wall_s) || wall_s < 0.0) {
+    throw InputError(shard_ini.where("shard", "wall_s") + " = " + shard_ini.get_string("shard", "wall_s", "") +
+                     ": must be a finite number of seconds >= 0");
+  }
+  const int threads = static_cast<int>(shard_ini.get_integer("shard", "threads", 1, 1, 1'000'000));
+  timing.slowest_shard_wall_s = std::max(timing.slowest_shard_wall_s, wall_s);
+  timing.shards_wall_s += wall_s;
+  timing.min_shard_threads = timing.min_shard_threads == 0 ? threads : std::min(timing.min_shard_threads, threads);
+  timing.max_shard_threads = std::max(timing.max_shard_threads, threads);
+  return true;
+}
+}  // namespace
+
 int merge_experiment_app(const std::vector<std::string>& shard_dirs, const std::string& out_dir,
                          const ExperimentExtensions& extensions, std::ostream& out, std::ostream& err) {
   ExperimentSettings settings;
   ExperimentResults results;
+  RunTiming timing;
+  timing.slowest_shard_wall_s = timing.shards_wall_s = 0.0;
+  bool all_timed = true;
   const auto t0 = std::chrono::steady_clock::now();
   try {
     if (shard_dirs.empty()) throw InputError("merge: no shard folders given");
@@ -799,7 +823,7 @@ int merge_experiment_app(const std::vector<std::string>& shard_dirs, const std::
         throw InputError(shard_ini.string() + ": missing: not a finished shard folder (run with --shard i/N)");
       }
       const IniConfig ini = IniConfig::from_file(shard_ini.string());
-      ini.require_known({{"shard", {"index", "count"}}});
+      ini.require_known({{"shard", {"index", "count", "threads", "wall_s"}}});
       if (!ini.has("shard", "count") || !ini.has("shard", "index")) {
         throw InputError(shard_ini.string() + ": needs [shard] index and count");
       }
@@ -812,6 +836,7 @@ int merge_experiment_app(const std::vector<std::string>& shard_dirs, const std::
       count = n;
       if (seen.count(i)) throw InputError(d + ": shard " + std::to_string(i) + " given twice (also " + seen[i] + ")");
       seen[i] = d;
+      all_timed = add_shard_timing(ini, timing) && all_timed;
       const ExperimentSettings s = load_stored_settings(fs::path(d) / "config.ini", extensions);
       const std::string config = results_config(s);
       if (reference.empty()) {
@@ -845,7 +870,10 @@ int merge_experiment_app(const std::vector<std::string>& shard_dirs, const std::
     fs::create_directories(dir);
     write_file_atomically((dir / "config.ini").string(), to_ini(settings));
     const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    finish_outputs(settings, extensions, results, dir, wall_s, 1, false, out, err);
+    timing.wall_s = wall_s;
+    timing.shards = static_cast<int>(shard_dirs.size());
+    if (!all_timed) timing.slowest_shard_wall_s = timing.shards_wall_s = std::nan("");
+    finish_outputs(settings, extensions, results, dir, timing, false, out, err);
     return 0;
   } catch (const std::exception& e) {
     err << "losmimo-experiment merge: error: " << e.what() << "\n";

@@ -123,10 +123,31 @@ std::vector<PaperValue> paper_values() {
   };
 }
 
+std::string describe(const RunTiming& t) {
+  std::ostringstream o;
+  const auto threads = [](int n) { return std::to_string(n) + (n == 1 ? " thread" : " threads"); };
+  if (t.shards <= 0) {
+    o << threads(t.threads) << ", " << fmt(t.wall_s, 1) << " s wall";
+    return o.str();
+  }
+  o << "merged from " << t.shards << (t.shards == 1 ? " shard" : " shards");
+  if (std::isfinite(t.slowest_shard_wall_s)) {
+    o << " of " << (t.min_shard_threads == t.max_shard_threads
+                        ? threads(t.min_shard_threads)
+                        : std::to_string(t.min_shard_threads) + " to " + threads(t.max_shard_threads))
+      << ": slowest " << fmt(t.slowest_shard_wall_s, 1) << " s wall, " << fmt(t.shards_wall_s, 1)
+      << " s wall summed over shards";
+  } else {
+    o << " (their timing was not recorded)";
+  }
+  o << "; merge " << fmt(t.wall_s, 1) << " s";
+  return o.str();
+}
+
 ReportOutcome write_figures_and_report(const ExperimentSettings& s, const ExperimentExtensions& extensions,
                                        const ExperimentResults& results,
                                        const std::vector<SummaryRow>& rows, const std::string& out_dir,
-                                       double wall_s, int threads) {
+                                       const RunTiming& timing) {
   ReportOutcome outcome;
   const fs::path dir(out_dir);
   std::vector<Algorithm> movers;
@@ -236,8 +257,8 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
   // report.md
   std::ostringstream md;
   md << "# losmimo-experiment report\n\n"
-     << s.trials << " random starts per sweep point, seed " << s.seed << ", " << threads << " threads, "
-     << fmt(wall_s, 1) << " s wall. Configuration: `config.ini`. Means with 95% confidence half-widths "
+     << s.trials << " random starts per sweep point, seed " << s.seed << ", " << describe(timing)
+     << ". Configuration: `config.ini`. Means with 95% confidence half-widths "
      << "(Student t) over the trials where the quantity is defined (n). A value agrees with the "
      << "paper when it is within the CI plus the resolution at which the paper's plot can be read "
      << "(0.5 dB, 0.5 m, 5 iterations).\n\n"

@@ -170,3 +170,76 @@ TEST_F(ExperimentShards, TruncatedShardRecords_Exit2) {
   std::string err;
   EXPECT_EQ(merge({shard_dir(0), copy, shard_dir(2)}, root_ / "m_truncated", &err), 2);
 }
+
+namespace {
+// A copy of shard i whose shard.ini keeps only the lines for which `keep` is true, plus `extra`.
+fs::path copy_shard(const fs::path& root, int i, const std::string& name, bool (*keep)(const std::string&),
+                    const std::string& extra = "") {
+  const fs::path src = fs::path(root) / ("shard" + std::to_string(i));
+  const fs::path dst = fs::path(root) / name / ("shard" + std::to_string(i));
+  fs::create_directories(dst);
+  for (const char* f : {"config.ini", "records.csv"}) fs::copy_file(src / f, dst / f, fs::copy_options::overwrite_existing);
+  std::istringstream in(read_file(src / "shard.ini"));
+  std::ofstream out(dst / "shard.ini", std::ios::binary);
+  for (std::string line; std::getline(in, line);) {
+    if (keep(line)) out << line << "\n";
+  }
+  out << extra;
+  return dst;
+}
+bool keep_all(const std::string&) { return true; }
+bool drop_timing(const std::string& line) { return line.rfind("wall_s", 0) != 0 && line.rfind("threads", 0) != 0; }
+bool drop_wall(const std::string& line) { return line.rfind("wall_s", 0) != 0; }
+
+double shard_wall_s(const fs::path& dir) {
+  std::istringstream in(read_file(dir / "shard.ini"));
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("wall_s = ", 0) == 0) return std::stod(line.substr(9));
+  }
+  ADD_FAILURE() << dir << ": no wall_s";
+  return -1.0;
+}
+std::string one_decimal(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f", v);
+  return buf;
+}
+}  // namespace
+
+TEST_F(ExperimentShards, MergedReport_GivesTheShardsOwnTiming) {
+  double slowest_s = 0.0, sum_s = 0.0;
+  for (int i = 0; i < kShards; ++i) {
+    const double s = shard_wall_s(shard_dir(i));
+    slowest_s = std::max(slowest_s, s);
+    sum_s += s;
+  }
+  ASSERT_EQ(merge({shard_dir(0), shard_dir(1), shard_dir(2)}, root_ / "m_timing"), 0);
+  const std::string report = read_file(root_ / "m_timing" / "report.md");
+  // Shards 0 and 2 ran 1 thread, shard 1 ran 2 (the fixture).
+  const std::string expected = "merged from 3 shards of 1 to 2 threads: slowest " + one_decimal(slowest_s) +
+                               " s wall, " + one_decimal(sum_s) + " s wall summed over shards; merge ";
+  EXPECT_NE(report.find(expected), std::string::npos) << expected << "\n" << report.substr(0, 400);
+}
+
+TEST_F(ExperimentShards, ShardsWithoutTiming_StillMergeAndSaySo) {
+  std::vector<fs::path> dirs;
+  for (int i = 0; i < kShards; ++i) dirs.push_back(copy_shard(root_, i, "untimed", i == 1 ? drop_timing : keep_all));
+  ASSERT_EQ(merge(dirs, root_ / "m_untimed"), 0);
+  EXPECT_EQ(read_file(root_ / "m_untimed" / "summary.csv"), read_file(root_ / "single" / "summary.csv"));
+  const std::string report = read_file(root_ / "m_untimed" / "report.md");
+  EXPECT_NE(report.find("merged from 3 shards (their timing was not recorded); merge "), std::string::npos)
+      << report.substr(0, 400);
+}
+
+TEST_F(ExperimentShards, BadShardWallTime_Exits2NamingTheKey) {
+  for (const char* bad : {"wall_s = -1\n", "wall_s = nan\n", "wall_s = soon\n"}) {
+    std::vector<fs::path> dirs;
+    for (int i = 0; i < kShards; ++i) {
+      dirs.push_back(i == 2 ? copy_shard(root_, i, "badwall", drop_wall, bad) : shard_dir(i));
+    }
+    std::string err;
+    EXPECT_EQ(merge(dirs, root_ / "m_badwall", &err), 2) << bad;
+    EXPECT_NE(err.find("wall_s"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(root_ / "m_badwall" / "summary.csv")) << bad;
+  }
+}

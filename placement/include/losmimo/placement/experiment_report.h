@@ -11,12 +11,30 @@
 // 95% confidence interval; a value agrees when |measured - paper| <= CI + the resolution at
 // which it can be read off the paper's plot; every other difference gets a line saying why.
 
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "losmimo/placement/experiment.h"
 
 namespace losmimo::placement {
+
+// How the results were computed, for report.md's first line and the app's last line.
+// A merge of shard folders reports the shards' own timing (from their shard.ini), not just
+// the seconds the merge took.
+struct RunTiming {
+  double wall_s = 0.0;  // this process: the whole run, or for a merge the merge itself
+  int threads = 1;      // this process's threads (all ranks' threads under MPI)
+  int shards = 0;       // > 0: merged from this many shard folders
+  // Over the shards that recorded their timing (NaN / 0 when none did, e.g. older folders):
+  double slowest_shard_wall_s = std::numeric_limits<double>::quiet_NaN();
+  double shards_wall_s = std::numeric_limits<double>::quiet_NaN();  // sum over shards
+  int min_shard_threads = 0;
+  int max_shard_threads = 0;
+};
+// "2 threads, 500.4 s wall", or "merged from 20 shards of 1 thread: slowest 71.4 s wall,
+// 1276.3 s wall summed over shards; merge 3.8 s".
+std::string describe(const RunTiming& timing);
 
 struct ReportOutcome {
   std::vector<std::string> warnings;
@@ -26,7 +44,7 @@ struct ReportOutcome {
 ReportOutcome write_figures_and_report(const ExperimentSettings& settings, const ExperimentExtensions& extensions,
                                        const ExperimentResults& results,
                                        const std::vector<SummaryRow>& summary, const std::string& out_dir,
-                                       double wall_s, int threads);
+                                       const RunTiming& timing);
 
 // One paper-vs-measured comparison line of report.md.
 struct PaperValue {
