@@ -82,12 +82,14 @@ TEST_P(FilterHealth, NominalEpochs_StayHealthy) {
 }
 
 TEST_P(FilterHealth, BeaconFixAtAnAbsurdRange_OverflowsTheCovarianceAndIsReported) {
-  // GIVEN: a filter that keeps receiving a finite beacon at 1e300 m. The gate rejects it
-  // (its Mahalanobis distance is infinite) until the reset rule re-initialises from a beacon
-  // fix, whose lateral variance (r sigma_angle)^2 = 1e592 m^2 overflows.
+  // GIVEN: a filter without the plausibility screen (max_beacon_range_m opened up to DBL_MAX)
+  // that keeps receiving a finite beacon at 1e300 m. The gate rejects it (its Mahalanobis
+  // distance is infinite) until the reset rule re-initialises from a beacon fix, whose lateral
+  // variance (r sigma_angle)^2 = 1e592 m^2 overflows.
   FilterConfig config;
   config.num_particles = 200;
   config.reset_after_rejections = 3;
+  config.max_beacon_range_m = std::numeric_limits<double>::max();
   auto filter = make_filter(GetParam(), config, healthy_belief(), 7);
   const BeaconMeasurement absurd{1e300, 0.002, 0.03};
   // WHEN: the gated epochs: still healthy.
