@@ -62,6 +62,7 @@ void validate(const FilterConfig& config) {
   require_finite_non_negative("noise.dr_sigma_floor_m", config.noise.dr_sigma_floor_m);
   require_finite_non_negative("noise.dr_sigma_fraction", config.noise.dr_sigma_fraction);
   require_finite_positive("gate_chi2", config.gate_chi2);
+  require_finite_positive("max_beacon_range_m", config.max_beacon_range_m);
   if (config.reset_after_rejections < 0) {
     fail("reset_after_rejections", config.reset_after_rejections, ">= 0");
   }

@@ -53,6 +53,12 @@ bool make_spd(Eigen::Matrix3d& P, double min_variance_m2, double fallback_varian
   return true;
 }
 
+bool is_plausible(const FilterConfig& config, const BeaconMeasurement& z) {
+  constexpr double kHalfPi_rad = 1.57079632679489661923;
+  return is_finite(z) && z.range_m > 0.0 && z.range_m <= config.max_beacon_range_m &&
+         std::abs(wrap_angle_rad(z.elevation_rad)) <= kHalfPi_rad;
+}
+
 BeaconVerdict screen_beacon(const FilterConfig& config,
                             const std::optional<BeaconMeasurement>& beacon,
                             const Eigen::Vector3d& predicted_mean_m,
@@ -64,6 +70,12 @@ BeaconVerdict screen_beacon(const FilterConfig& config,
   if (!is_finite(*beacon) || beacon->range_m <= 0.0) {
     ++counters.rejected_non_finite_beacon;
     return BeaconVerdict::kNonFinite;
+  }
+  // A finite but impossible beacon (e.g. 1e300 m) would be gated until the reset rule took a
+  // fix from it: reject it before the gate, so it never counts towards a reset.
+  if (!is_plausible(config, *beacon)) {
+    ++counters.rejected_out_of_range_beacon;
+    return BeaconVerdict::kOutOfRange;
   }
   if (std::hypot(predicted_mean_m.x(), predicted_mean_m.y()) < kMinBeaconRho_m) {
     ++counters.rejected_geometry;

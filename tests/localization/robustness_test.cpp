@@ -139,6 +139,82 @@ TEST_F(ScreenBeacon, ConsecutiveRejections_TriggerResetThenStartOver) {
   for (int i = 0; i < 10; ++i) EXPECT_EQ(screen(far_m), BeaconVerdict::kGated);
 }
 
+TEST_F(ScreenBeacon, RangeAboveTheLimit_RejectedAsOutOfRange_NeverTowardsAReset) {
+  // GIVEN: two gate rejections in a row already, and a reset due at the third.
+  config.reset_after_rejections = 3;
+  const Eigen::Vector3d far_m = mean_m + Eigen::Vector3d(0.0, 10.0, 0.0);
+  for (int i = 0; i < 2; ++i) ASSERT_EQ(screen(far_m), BeaconVerdict::kGated);
+  const double limit_m = config.max_beacon_range_m;
+  for (const double range_m : {1e300, std::nextafter(limit_m, kInf), 2.0 * limit_m}) {
+    BeaconMeasurement z = to_measurement(beacon_predict(mean_m));
+    z.range_m = range_m;
+    // WHEN / THEN: rejected before the gate, however many arrive.
+    for (int i = 0; i < 5; ++i) {
+      EXPECT_EQ(screen_beacon(config, z, mean_m, cov_m2, consecutive, counters),
+                BeaconVerdict::kOutOfRange)
+          << "range_m = " << range_m;
+    }
+  }
+  EXPECT_EQ(counters.rejected_out_of_range_beacon, 15);
+  EXPECT_EQ(counters.rejected_gate, 2);
+  EXPECT_EQ(counters.resets, 0);
+  EXPECT_EQ(counters.beacons_fused, 0);
+  EXPECT_EQ(consecutive, 2);  // neither counted nor cleared
+  EXPECT_EQ(counters.rejected_total(), 17);
+  // The streak of gate rejections goes on where it was.
+  EXPECT_EQ(screen(far_m), BeaconVerdict::kGated);
+  EXPECT_EQ(screen(far_m), BeaconVerdict::kReset);
+}
+
+TEST_F(ScreenBeacon, RangeAtOrJustBelowTheLimit_IsLeftToTheGate) {
+  const double limit_m = config.max_beacon_range_m;
+  // Far from the belief at 1 km: gated, and counted towards a reset, as any other beacon.
+  BeaconMeasurement z = to_measurement(beacon_predict(mean_m));
+  z.range_m = std::nextafter(limit_m, 0.0);
+  EXPECT_EQ(screen_beacon(config, z, mean_m, cov_m2, consecutive, counters),
+            BeaconVerdict::kGated);
+  EXPECT_EQ(consecutive, 1);
+  // Where the belief agrees: fused, up to the limit itself.
+  for (const double range_m : {std::nextafter(limit_m, 0.0), limit_m}) {
+    mean_m = Eigen::Vector3d(range_m, 0.0, 0.0);
+    z = to_measurement(beacon_predict(mean_m));
+    EXPECT_EQ(screen_beacon(config, z, mean_m, cov_m2, consecutive, counters),
+              BeaconVerdict::kFuse)
+        << "range_m = " << range_m;
+  }
+  EXPECT_EQ(counters.rejected_out_of_range_beacon, 0);
+  EXPECT_EQ(counters.rejected_gate, 1);
+  EXPECT_EQ(counters.beacons_fused, 2);
+}
+
+TEST_F(ScreenBeacon, ElevationOutsideHalfPiAfterWrapping_RejectedAsOutOfRange) {
+  constexpr double kHalfPi_rad = 1.57079632679489661923;
+  constexpr double kTwoPi_rad = 6.28318530717958647692;
+  const BeaconMeasurement nominal = to_measurement(beacon_predict(mean_m));
+  for (const double el_rad : {std::nextafter(kHalfPi_rad, kInf), -std::nextafter(kHalfPi_rad, kInf),
+                              3.0, -3.0, kTwoPi_rad + 2.0}) {
+    BeaconMeasurement z = nominal;
+    z.elevation_rad = el_rad;
+    EXPECT_FALSE(is_plausible(config, z)) << "elevation_rad = " << el_rad;
+    EXPECT_EQ(screen_beacon(config, z, mean_m, cov_m2, consecutive, counters),
+              BeaconVerdict::kOutOfRange)
+        << "elevation_rad = " << el_rad;
+  }
+  EXPECT_EQ(counters.rejected_out_of_range_beacon, 5);
+  // The edges and any whole turn are physical: the innovation and the fix wrap them too.
+  for (const double el_rad : {kHalfPi_rad, -kHalfPi_rad}) {
+    BeaconMeasurement z = nominal;
+    z.elevation_rad = el_rad;
+    EXPECT_TRUE(is_plausible(config, z)) << "elevation_rad = " << el_rad;
+  }
+  BeaconMeasurement turned = nominal;
+  turned.elevation_rad += kTwoPi_rad;
+  turned.azimuth_rad -= 3.0 * kTwoPi_rad;
+  EXPECT_EQ(screen_beacon(config, turned, mean_m, cov_m2, consecutive, counters),
+            BeaconVerdict::kFuse);
+  EXPECT_EQ(counters.rejected_out_of_range_beacon, 5);
+}
+
 TEST(ApplyHealth, EpochsOrCovariance_SetDegraded) {
   FilterConfig config;
   Belief b;
@@ -168,6 +244,14 @@ TEST(FilterConfigValidation, BadFields_ThrowNamingTheField) {
   expect_invalid(with([](FilterConfig& c) { c.num_particles = 0; }), "num_particles = 0");
   expect_invalid(with([](FilterConfig& c) { c.ess_threshold = 0.0; }), "ess_threshold");
   expect_invalid(with([](FilterConfig& c) { c.gate_chi2 = -1.0; }), "gate_chi2");
+  expect_invalid(with([](FilterConfig& c) { c.max_beacon_range_m = 0.0; }),
+                 "max_beacon_range_m = 0 (must be finite and > 0)");
+  expect_invalid(with([](FilterConfig& c) { c.max_beacon_range_m = -5.0; }),
+                 "max_beacon_range_m = -5");
+  expect_invalid(with([](FilterConfig& c) { c.max_beacon_range_m = kInf; }),
+                 "max_beacon_range_m = inf");
+  expect_invalid(with([](FilterConfig& c) { c.max_beacon_range_m = kNaN; }),
+                 "max_beacon_range_m = nan");
   expect_invalid(with([](FilterConfig& c) { c.degraded_after_epochs = 0; }),
                  "degraded_after_epochs");
   expect_invalid(with([](FilterConfig& c) { c.min_variance_m2 = 0.0; }), "min_variance_m2");

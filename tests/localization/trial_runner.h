@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <optional>
 #include <random>
 #include <set>
@@ -36,11 +37,15 @@ struct TrialSpec {
   FilterConfig filter;
   std::set<int> nan_beacon_epochs;        // these beacons are replaced by NaN
   std::set<int> inf_displacement_epochs;  // these displacements are replaced by +Inf
+  // These beacons are replaced by the given measurement, or withheld (nullopt). The simulator
+  // still draws them, so every other reading is the same as without the replacement.
+  std::map<int, std::optional<BeaconMeasurement>> replaced_beacons;
   // Overrides the initial belief's mean offset (else drawn from N(0, sigma_0^2 I)).
   std::optional<Eigen::Vector3d> initial_offset_m;
 };
 
 struct TrialResult {
+  std::vector<Eigen::Vector3d> mean_m;   // filter mean, per epoch
   std::vector<Eigen::Vector3d> error_m;  // filter mean - truth, per epoch
   std::vector<Eigen::Matrix3d> cov_m2;
   std::vector<double> nees;
@@ -85,12 +90,16 @@ inline TrialResult run_trial(FilterKind kind, const TrialSpec& spec, std::uint64
     if (spec.nan_beacon_epochs.count(k) && beacon) {
       beacon->azimuth_rad = std::numeric_limits<double>::quiet_NaN();
     }
+    if (const auto it = spec.replaced_beacons.find(k); it != spec.replaced_beacons.end()) {
+      beacon = it->second;
+    }
     if (spec.inf_displacement_epochs.count(k)) {
       d_meas_m.x() = std::numeric_limits<double>::infinity();
     }
     filter->step(d_meas_m, beacon);
     const Belief b = filter->belief();
     const Eigen::Vector3d e = b.mean_m - q_m;
+    out.mean_m.push_back(b.mean_m);
     out.error_m.push_back(e);
     out.cov_m2.push_back(b.cov_m2);
     out.nees.push_back(e.dot(b.cov_m2.llt().solve(e)));

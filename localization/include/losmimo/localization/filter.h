@@ -13,6 +13,11 @@
 // it passes the checks. Robustness, on by default:
 //  - non-finite displacement: the epoch predicts with d = 0 and sigma missing_displacement_sigma_m;
 //  - non-finite beacon, or beacon with rho < kMinBeaconRho_m at the prediction: not fused;
+//  - physically implausible beacon: range_m > max_beacon_range_m, or an elevation outside
+//    [-pi/2, pi/2] once wrapped to (-pi, pi] (any finite azimuth is a direction after
+//    wrapping): never fused, never used for a reset, and not a gate rejection (it neither
+//    counts towards reset_after_rejections nor clears that count, exactly as if the epoch had
+//    no beacon); counted in FilterCounters::rejected_out_of_range_beacon;
 //  - Mahalanobis gate: fuse only if y^T S^-1 y <= gate_chi2 (y innovation, S = H P H^T + R);
 //    after reset_after_rejections gated beacons in a row the filter re-initialises from the
 //    next beacon fix (the belief had lost track, and the gate would reject forever);
@@ -62,6 +67,15 @@ struct FilterConfig {
   double gate_chi2 = 16.27;
   int reset_after_rejections = 10;  // 0: never re-initialise from a beacon fix
 
+  // Physical plausibility: the largest beacon range a real ranging sensor reports [m], finite
+  // and > 0. The default, 1e5 m = 100 km, is 100 times the paper's BS-to-swarm range (~1000 m)
+  // and beyond the radio horizon of a UAV at a few hundred metres (tens of km), so no genuine
+  // beacon of the LoS link comes from farther. It also keeps a beacon fix finite: its lateral
+  // 1-sigma is r * sigma_angle_rad, and at r = 1e300 m the covariance overflows. The scenario
+  // accepts lengths up to 1e7 m (placement/scenario.cpp): a swarm placed farther than 1e5 m
+  // needs a larger value here, or every beacon is rejected (and counted).
+  double max_beacon_range_m = 1e5;
+
   int degraded_after_epochs = 10;
   double degraded_sigma_m = 1.0;
 
@@ -96,7 +110,10 @@ struct FilterCounters {
   std::int64_t beacons_received = 0;  // step() calls with a beacon
   std::int64_t beacons_fused = 0;
   std::int64_t rejected_non_finite_displacement = 0;
-  std::int64_t rejected_non_finite_beacon = 0;
+  std::int64_t rejected_non_finite_beacon = 0;  // non-finite, or range_m <= 0
+  // Finite but physically implausible: range_m > max_beacon_range_m, or elevation outside
+  // [-pi/2, pi/2] after wrapping. Not gate rejections: they never lead to a reset.
+  std::int64_t rejected_out_of_range_beacon = 0;
   std::int64_t rejected_geometry = 0;  // prediction too close to the array's z axis
   std::int64_t rejected_gate = 0;
   std::int64_t resets = 0;              // re-initialisations from a beacon fix
@@ -106,8 +123,8 @@ struct FilterCounters {
   std::int64_t non_finite_state = 0;
 
   std::int64_t rejected_total() const {
-    return rejected_non_finite_displacement + rejected_non_finite_beacon + rejected_geometry +
-           rejected_gate;
+    return rejected_non_finite_displacement + rejected_non_finite_beacon +
+           rejected_out_of_range_beacon + rejected_geometry + rejected_gate;
   }
 };
 

@@ -38,11 +38,18 @@ double mahalanobis2(const Eigen::Vector3d& y, const Eigen::Matrix3d& S);
 // fallback_variance_m2 * I).
 bool make_spd(Eigen::Matrix3d& P, double min_variance_m2, double fallback_variance_m2);
 
-// The outcome of screening one beacon against a predicted belief.
-enum class BeaconVerdict { kNone, kNonFinite, kGeometry, kGated, kFuse, kReset };
+// True when a finite beacon is physically possible: 0 < range_m <= max_beacon_range_m and
+// |wrap_angle_rad(elevation_rad)| <= pi/2. Every finite azimuth is a direction once wrapped,
+// as the innovation and the beacon fix wrap it, so the azimuth is not checked.
+bool is_plausible(const FilterConfig& config, const BeaconMeasurement& z);
 
-// Screens the beacon (finite, geometry, gate, reset rule) and updates the counters and the
-// consecutive-rejection count. predicted_mean_m/predicted_cov_m2: the belief after prediction.
+// The outcome of screening one beacon against a predicted belief.
+enum class BeaconVerdict { kNone, kNonFinite, kOutOfRange, kGeometry, kGated, kFuse, kReset };
+
+// Screens the beacon (finite, physically plausible, geometry, gate, reset rule) and updates
+// the counters and the consecutive-rejection count. predicted_mean_m/predicted_cov_m2: the
+// belief after prediction. Only the gate touches consecutive_gated: a non-finite, implausible
+// or badly placed beacon leaves it as it was, as an epoch without a beacon does.
 BeaconVerdict screen_beacon(const FilterConfig& config,
                             const std::optional<BeaconMeasurement>& beacon,
                             const Eigen::Vector3d& predicted_mean_m,
