@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cstdio>
+#include <sstream>
 
 namespace losmimo::fusion {
 
@@ -45,6 +46,31 @@ std::uint64_t fnv1a64(const void* data, std::size_t size, std::uint64_t hash) {
     hash *= 0x100000001b3ULL;
   }
   return hash;
+}
+
+std::string hex64(std::uint64_t v) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
+  return buf;
+}
+
+std::string with_text_digest(const std::string& text) {
+  return text + "text_digest = " + hex64(fnv1a64(text.data(), text.size())) + "\n";
+}
+
+bool text_digest_matches(const std::string& text) {
+  const auto last = text.rfind("text_digest = ");
+  return last != std::string::npos && with_text_digest(text.substr(0, last)) == text;
+}
+
+std::map<std::string, std::string> parse_mark_keys(const std::string& text) {
+  std::map<std::string, std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    const auto eq = line.find(" = ");
+    if (eq != std::string::npos) out[line.substr(0, eq)] = line.substr(eq + 3);
+  }
+  return out;
 }
 
 }  // namespace losmimo::fusion

@@ -27,30 +27,10 @@ constexpr int kMaxUavs = 4096;      // placement's num_uavs bound
 constexpr int kMaxEpochs = 10'000'000;
 constexpr int kMaxForeignUavs = 256;  // foreign labels above UAV255_ are skipped
 
-// "key = value" lines of a mark's text.
-std::map<std::string, std::string> parse_keys(const std::string& text) {
-  std::map<std::string, std::string> out;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) {
-    const auto eq = line.find(" = ");
-    if (eq != std::string::npos) out[line.substr(0, eq)] = line.substr(eq + 3);
-  }
-  return out;
-}
-
 // Marks start with "losmimo <LABEL>\n" (rawlog_recorder.cpp).
 bool is_mark(const mrpt::obs::CObservationComment& c, const char* label) {
   const std::string head = std::string("losmimo ") + label + "\n";
   return c.text.compare(0, head.size(), head) == 0;
-}
-
-std::string hex64(std::uint64_t v) {
-  std::ostringstream o;
-  o << std::hex;
-  o.width(16);
-  o.fill('0');
-  o << v;
-  return o.str();
 }
 
 // A decimal uint64 (surrounding spaces allowed); InputError otherwise.
@@ -150,15 +130,13 @@ class Builder {
   }
 
   void check_mark(const RawlogObject& o, const mrpt::obs::CObservationComment& c) {
-    const auto keys = parse_keys(c.text);
+    const auto keys = parse_mark_keys(c.text);
     const auto get = [&](const std::string& k) {
       const auto it = keys.find(k);
       return it == keys.end() ? std::string() : it->second;
     };
     std::string error;
-    const auto last = c.text.rfind("text_digest = ");
-    const std::string head = last == std::string::npos ? std::string() : c.text.substr(0, last);
-    if (last == std::string::npos || get("text_digest") != hex64(fnv1a64(head.data(), head.size())))
+    if (!text_digest_matches(c.text))
       error = "the mark's text_digest does not match its text";
     else if (get("objects") != std::to_string(o.index))
       error = "object count " + get("objects") + " != " + std::to_string(o.index);

@@ -23,6 +23,7 @@
 // nn is the UAV index, two digits or more (UAV07, UAV123). Frame: BS array frame (metres).
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -58,5 +59,11 @@ inline constexpr double kMoveEscape = 2.0;
 // FNV-1a 64-bit over bytes, continuing from `hash` (the digest of the integrity marks).
 inline constexpr std::uint64_t kFnvOffset = 0xcbf29ce484222325ULL;
 std::uint64_t fnv1a64(const void* data, std::size_t size, std::uint64_t hash = kFnvOffset);
+std::string hex64(std::uint64_t v);  // 16 lower-case hex digits
+
+// The marks' text: "key = value" lines, closed by "text_digest = <hex64 of the text before it>".
+std::string with_text_digest(const std::string& text);  // appends the text_digest line
+bool text_digest_matches(const std::string& text);
+std::map<std::string, std::string> parse_mark_keys(const std::string& text);
 
 }  // namespace losmimo::fusion
