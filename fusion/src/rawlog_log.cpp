@@ -156,6 +156,7 @@ class Builder {
         error = "epoch " + std::to_string(epoch) + " where " + std::to_string(expected) + " was expected";
     }
     if (error.empty() && end) error = check_counts(keys);
+    if (error.empty() && end) error = read_run_end(keys, log_.num_uavs, log_.run_end);
     if (!error.empty()) {
       log_.integrity_error = std::string(end ? kLabelEndOfLog : kLabelEpochEnd) + " mark at object " + std::to_string(o.index) + ": " + error;
       log_.objects_after_last_mark = static_cast<std::int64_t>(pending_.size()) + 1;
@@ -191,11 +192,18 @@ class Builder {
   }
 
   void commit_epoch(const std::string& modes) {
-    // Every UAV writes at least TRUTH, CSI and BELIEF per epoch: fewer records than UAVs is a
-    // damaged log (and the check keeps memory proportional to the file).
-    if (pending_.size() < static_cast<std::size_t>(log_.num_uavs)) {
+    // Every UAV that reports writes at least TRUTH, CSI and BELIEF per epoch, so a log has at
+    // least as many records as UAV-epochs. An epoch may hold fewer records than UAVs (UAVs that
+    // were silent, or the last epoch of a run a fault stopped part-way), but over the log so far
+    // fewer records than UAV-epochs, or an epoch with no record, is a damaged log. The check
+    // keeps memory proportional to the file.
+    records_ += static_cast<std::int64_t>(pending_.size());
+    const std::int64_t uav_epochs = static_cast<std::int64_t>(log_.epochs.size() + 1) * log_.num_uavs;
+    if (pending_.empty() || records_ < uav_epochs) {
       log_.integrity_error = "EPOCH_END mark of epoch " + std::to_string(log_.epochs.size()) + ": " +
-                             std::to_string(pending_.size()) + " records for " + std::to_string(log_.num_uavs) + " UAVs";
+                             std::to_string(pending_.size()) + " records for " + std::to_string(log_.num_uavs) +
+                             " UAVs (" + std::to_string(records_) + " records for " + std::to_string(uav_epochs) +
+                             " UAV-epochs so far)";
       log_.objects_after_last_mark = static_cast<std::int64_t>(pending_.size()) + 1;
       return;
     }
@@ -211,6 +219,7 @@ class Builder {
         count(log_.skipped, p.class_name, obs->sensorLabel);
         continue;
       }
+      if (*label->stream != UavStream::kMove) row[label->uav].reported = true;  // MOVE: the next iteration
       count(log_.used, p.class_name, to_string(*label->stream));
     }
     log_.epochs.push_back(std::move(row));
@@ -374,6 +383,7 @@ class Builder {
   std::uint64_t digest_ = kFnvOffset;
   std::vector<Pending> pending_;
   std::map<std::string, std::int64_t> labels_seen_;  // ours, for END_OF_LOG's counts
+  std::int64_t records_ = 0;  // ours: records in the epochs committed (and the one at hand)
   std::vector<int> foreign_epoch_;
   std::vector<std::optional<Eigen::Vector3d>> last_odometry_;
 };

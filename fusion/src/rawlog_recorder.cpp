@@ -238,6 +238,11 @@ class Recorder : public ClosedLoopObserver {
          << "\nfinal_truth_epoch = " << (final_epoch > 0 ? final_epoch : -1)
          << "\niterations = " << r.run.iterations << "\nstatus = " << placement::to_string(r.run.status)
          << "\nfinal_icn = " << (r.run.trace.empty() ? 0.0 : r.run.trace.back().icn) << "\n";
+    if (r.run.faulted()) {  // only then: the logs of runs without a fault stay byte for byte
+      std::string reason = r.run.fault;
+      std::replace(reason.begin(), reason.end(), '\n', ' ');  // one "key = value" line
+      body << "fault_uav = " << r.run.fault_uav << "\nfault = " << reason << "\n";
+    }
     for (const auto& [label, n] : writer_.label_counts()) body << "count." << label << " = " << n << "\n";
     writer_.mark(kLabelEndOfLog, body.str(), time_s(final_epoch) + 0.95 * config_.epoch_period_s);
     writer_.close();
