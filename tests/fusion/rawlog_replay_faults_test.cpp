@@ -30,6 +30,9 @@ using testing::small_mission;
 using testing::temp_path;
 
 constexpr int kSmallUavs = 4;  // small_mission()
+// The run's ICN (cached Gram matrix, placement/run.h) against the replay's (H rebuilt from the
+// logged positions), as in rawlog_replay_test.cpp.
+constexpr double kIcnTolerance = 1e-6;
 
 // The live run of the mission record_mission runs (same settings, start, config and seed).
 struct Live {
@@ -145,17 +148,17 @@ TEST(RawlogReplayFaults, UavDeadFromIteration4_ReplaysUpToTheFaultAndReportsStat
     double icn_sum = 0.0;
     for (int k = 0; k < kFoundAt; ++k) {
       if (k < kFrom - 1) {
-        EXPECT_NEAR(r.epochs[k].icn, live.run.run.trace[k].icn, 1e-9) << "epoch " << k;
+        EXPECT_NEAR(r.epochs[k].icn, live.run.run.trace[k].icn, kIcnTolerance) << "epoch " << k;
         icn_sum += live.run.run.trace[k].icn;
       } else {
         EXPECT_TRUE(std::isnan(r.epochs[k].icn)) << "epoch " << k;
       }
     }
-    EXPECT_NEAR(r.mean_icn, icn_sum / (kFrom - 1), 1e-9);
+    EXPECT_NEAR(r.mean_icn, icn_sum / (kFrom - 1), kIcnTolerance);
     const placement::ChannelModel model(config.placement.scenario);
     ASSERT_TRUE(r.epochs.back().final_positions);
     EXPECT_EQ(r.epochs.back().epoch, kFoundAt);
-    EXPECT_NEAR(r.final_icn, placement::inverse_condition_number(model.matrix(live.run.run.final_m)), 1e-9);
+    EXPECT_NEAR(r.final_icn, placement::inverse_condition_number(model.matrix(live.run.run.final_m)), kIcnTolerance);
     // AND: the app replays it, writes the outputs, prints status and reason, and exits 3.
     const AppRun app = replay_app(path, temp_path(std::string("dead_uav_out_") + (refine ? "pf" : "ekf")));
     EXPECT_EQ(app.code, 3) << app.err;
@@ -331,7 +334,7 @@ TEST(RawlogReplayFaults, AbsurdBeaconAtEpoch0_OneEpochLogReplaysAndExits3) {
   EXPECT_EQ(expect_replay_matches_live(r, live, kSmallUavs), kSmallUavs);
   EXPECT_EQ(r.epochs.size(), 1u);
   const placement::ChannelModel model(config.placement.scenario);
-  EXPECT_NEAR(r.final_icn, placement::inverse_condition_number(model.matrix(live.run.run.start_m)), 1e-9);
+  EXPECT_NEAR(r.final_icn, placement::inverse_condition_number(model.matrix(live.run.run.start_m)), kIcnTolerance);
   const AppRun app = replay_app(path, temp_path("absurd_epoch0_out"));
   EXPECT_EQ(app.code, 3) << app.err;
   EXPECT_TRUE(contains(app.err, "initial beacon fix")) << app.err;
