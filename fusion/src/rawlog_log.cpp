@@ -27,30 +27,10 @@ constexpr int kMaxUavs = 4096;      // placement's num_uavs bound
 constexpr int kMaxEpochs = 10'000'000;
 constexpr int kMaxForeignUavs = 256;  // foreign labels above UAV255_ are skipped
 
-// "key = value" lines of a mark's text.
-std::map<std::string, std::string> parse_keys(const std::string& text) {
-  std::map<std::string, std::string> out;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) {
-    const auto eq = line.find(" = ");
-    if (eq != std::string::npos) out[line.substr(0, eq)] = line.substr(eq + 3);
-  }
-  return out;
-}
-
 // Marks start with "losmimo <LABEL>\n" (rawlog_recorder.cpp).
 bool is_mark(const mrpt::obs::CObservationComment& c, const char* label) {
   const std::string head = std::string("losmimo ") + label + "\n";
   return c.text.compare(0, head.size(), head) == 0;
-}
-
-std::string hex64(std::uint64_t v) {
-  std::ostringstream o;
-  o << std::hex;
-  o.width(16);
-  o.fill('0');
-  o << v;
-  return o.str();
 }
 
 // A decimal uint64 (surrounding spaces allowed); InputError otherwise.
@@ -150,15 +130,13 @@ class Builder {
   }
 
   void check_mark(const RawlogObject& o, const mrpt::obs::CObservationComment& c) {
-    const auto keys = parse_keys(c.text);
+    const auto keys = parse_mark_keys(c.text);
     const auto get = [&](const std::string& k) {
       const auto it = keys.find(k);
       return it == keys.end() ? std::string() : it->second;
     };
     std::string error;
-    const auto last = c.text.rfind("text_digest = ");
-    const std::string head = last == std::string::npos ? std::string() : c.text.substr(0, last);
-    if (last == std::string::npos || get("text_digest") != hex64(fnv1a64(head.data(), head.size())))
+    if (!text_digest_matches(c.text))
       error = "the mark's text_digest does not match its text";
     else if (get("objects") != std::to_string(o.index))
       error = "object count " + get("objects") + " != " + std::to_string(o.index);
@@ -178,6 +156,7 @@ class Builder {
         error = "epoch " + std::to_string(epoch) + " where " + std::to_string(expected) + " was expected";
     }
     if (error.empty() && end) error = check_counts(keys);
+    if (error.empty() && end) error = read_run_end(keys, log_.num_uavs, log_.run_end);
     if (!error.empty()) {
       log_.integrity_error = std::string(end ? kLabelEndOfLog : kLabelEpochEnd) + " mark at object " + std::to_string(o.index) + ": " + error;
       log_.objects_after_last_mark = static_cast<std::int64_t>(pending_.size()) + 1;
@@ -213,11 +192,18 @@ class Builder {
   }
 
   void commit_epoch(const std::string& modes) {
-    // Every UAV writes at least TRUTH, CSI and BELIEF per epoch: fewer records than UAVs is a
-    // damaged log (and the check keeps memory proportional to the file).
-    if (pending_.size() < static_cast<std::size_t>(log_.num_uavs)) {
+    // Every UAV that reports writes at least TRUTH, CSI and BELIEF per epoch, so a log has at
+    // least as many records as UAV-epochs. An epoch may hold fewer records than UAVs (UAVs that
+    // were silent, or the last epoch of a run a fault stopped part-way), but over the log so far
+    // fewer records than UAV-epochs, or an epoch with no record, is a damaged log. The check
+    // keeps memory proportional to the file.
+    records_ += static_cast<std::int64_t>(pending_.size());
+    const std::int64_t uav_epochs = static_cast<std::int64_t>(log_.epochs.size() + 1) * log_.num_uavs;
+    if (pending_.empty() || records_ < uav_epochs) {
       log_.integrity_error = "EPOCH_END mark of epoch " + std::to_string(log_.epochs.size()) + ": " +
-                             std::to_string(pending_.size()) + " records for " + std::to_string(log_.num_uavs) + " UAVs";
+                             std::to_string(pending_.size()) + " records for " + std::to_string(log_.num_uavs) +
+                             " UAVs (" + std::to_string(records_) + " records for " + std::to_string(uav_epochs) +
+                             " UAV-epochs so far)";
       log_.objects_after_last_mark = static_cast<std::int64_t>(pending_.size()) + 1;
       return;
     }
@@ -233,6 +219,7 @@ class Builder {
         count(log_.skipped, p.class_name, obs->sensorLabel);
         continue;
       }
+      if (*label->stream != UavStream::kMove) row[label->uav].reported = true;  // MOVE: the next iteration
       count(log_.used, p.class_name, to_string(*label->stream));
     }
     log_.epochs.push_back(std::move(row));
@@ -396,6 +383,7 @@ class Builder {
   std::uint64_t digest_ = kFnvOffset;
   std::vector<Pending> pending_;
   std::map<std::string, std::int64_t> labels_seen_;  // ours, for END_OF_LOG's counts
+  std::int64_t records_ = 0;  // ours: records in the epochs committed (and the one at hand)
   std::vector<int> foreign_epoch_;
   std::vector<std::optional<Eigen::Vector3d>> last_odometry_;
 };

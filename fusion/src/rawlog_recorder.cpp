@@ -29,12 +29,6 @@ namespace {
 // 2026-01-01T00:00:00Z: a fixed origin keeps the logs (and their digests) reproducible.
 constexpr double kTimeOrigin_s = 1767225600.0;
 
-std::string hex64(std::uint64_t v) {
-  std::ostringstream o;
-  o << std::hex << std::setw(16) << std::setfill('0') << v;
-  return o.str();
-}
-
 struct GzClose {
   void operator()(gzFile_s* f) const { gzclose(f); }
 };
@@ -69,8 +63,7 @@ class RawlogWriter {
     text << "losmimo " << label << "\nobjects = " << objects_ << "\ndigest = " << hex64(digest_)
          << "\n" << body;
     // The mark's own text, up to here, so that no line of it changes unnoticed.
-    const std::string t = text.str();
-    c.text = t + "text_digest = " + hex64(fnv1a64(t.data(), t.size())) + "\n";
+    c.text = with_text_digest(text.str());
     digest_ = kFnvOffset;
     write(c);
     digest_ = kFnvOffset;  // the mark itself is not part of the next digest
@@ -245,6 +238,11 @@ class Recorder : public ClosedLoopObserver {
          << "\nfinal_truth_epoch = " << (final_epoch > 0 ? final_epoch : -1)
          << "\niterations = " << r.run.iterations << "\nstatus = " << placement::to_string(r.run.status)
          << "\nfinal_icn = " << (r.run.trace.empty() ? 0.0 : r.run.trace.back().icn) << "\n";
+    if (r.run.faulted()) {  // only then: the logs of runs without a fault stay byte for byte
+      std::string reason = r.run.fault;
+      std::replace(reason.begin(), reason.end(), '\n', ' ');  // one "key = value" line
+      body << "fault_uav = " << r.run.fault_uav << "\nfault = " << reason << "\n";
+    }
     for (const auto& [label, n] : writer_.label_counts()) body << "count." << label << " = " << n << "\n";
     writer_.mark(kLabelEndOfLog, body.str(), time_s(final_epoch) + 0.95 * config_.epoch_period_s);
     writer_.close();

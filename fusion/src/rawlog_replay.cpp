@@ -78,9 +78,11 @@ ReplayResult replay_mission(const MissionLog& log, const ReplayOptions& options)
   std::vector<std::unique_ptr<localization::PositionFilter>> filters(nr);
   std::vector<std::optional<SlidingWindowRefiner>> refiners(nr);
   const placement::ChannelModel model(scenario);
+  std::vector<localization::Belief> held_filtered(nr), held_belief(nr);  // silent UAVs keep these
   double sq = 0.0, lat_sq = 0.0, nees_sum = 0.0, filter_sq = 0.0;
   long samples = 0;
   double icn_sum = 0.0;
+  int icn_epochs = 0;
 
   for (int k = 0; k < num_epochs; ++k) {
     ReplayEpochMetrics row;
@@ -93,8 +95,15 @@ ReplayResult replay_mission(const MissionLog& log, const ReplayOptions& options)
       static const LoggedUavEpoch kNothing;  // foreign rows are ragged (rawlog_log.cpp)
       const LoggedUavEpoch& in = m < static_cast<int>(log.epochs[k].size()) ? log.epochs[k][m] : kNothing;
       std::optional<localization::BeaconMeasurement> z = in.beacon;
+      // Ours: nothing arrived from the UAV in this epoch; the loop kept its belief (closed_loop.cpp).
+      const bool silent = log.ours && k > 0 && !in.reported;
+      // Ours: '-' = the UAV was not commanded in iteration k + 1 (silent, or the run stopped).
+      const bool commanded = !(log.ours && k < static_cast<int>(log.modes.size()) &&
+                               static_cast<int>(log.modes[k].size()) == nr && log.modes[k][m] == '-');
       localization::Belief filtered;
-      if (k == 0) {
+      if (silent) {
+        filtered = held_filtered[m];
+      } else if (k == 0) {
         if (z) {
           filtered = localization::beacon_fix(*z, cl.filter.noise.sigma_range_m, cl.filter.noise.sigma_angle_rad);
         } else {
@@ -111,8 +120,8 @@ ReplayResult replay_mission(const MissionLog& log, const ReplayOptions& options)
         filters[m]->step(d, z);
         filtered = filters[m]->belief();
       }
-      localization::Belief belief = filtered;
-      if (cl.refine) {
+      localization::Belief belief = silent ? held_belief[m] : filtered;
+      if (cl.refine && !silent) {
         std::vector<CsiMeasurement> csi;
         if (cl.refinement.use_csi && in.csi) csi.push_back(*in.csi);
         std::optional<Eigen::Vector3d> d;
@@ -121,6 +130,8 @@ ReplayResult replay_mission(const MissionLog& log, const ReplayOptions& options)
         refiners[m]->add_epoch({filtered, d, z, std::move(csi)});
         belief = refiners[m]->refine().belief;
       }
+      held_filtered[m] = filtered;
+      held_belief[m] = belief;
       if (out.same_as_recorded && in.filter_belief) {
         ++out.filter_beliefs_compared;
         if (bitwise_equal(filtered, *in.filter_belief)) ++out.filter_beliefs_bitwise_equal;
@@ -144,13 +155,15 @@ ReplayResult replay_mission(const MissionLog& log, const ReplayOptions& options)
       est.uav = m;
       est.filter_belief = filtered;
       est.belief = belief;
+      est.silent = silent;
       est.has_beacon = z.has_value();
+      if (silent) ++row.silent_uavs;
       if (z) {
         ++out.num_beacons;
         ++row.beacons;
         if (!in.beacon_exact) ++out.num_inexact_beacons;
       }
-      if (belief.degraded && cl.fallback_to_bf) ++row.fallback_uavs;
+      if (belief.degraded && cl.fallback_to_bf && commanded) ++row.fallback_uavs;
       estimate.col(m) = belief.mean_m;
       if (in.truth_m) {
         est.has_truth = true;
@@ -186,12 +199,16 @@ ReplayResult replay_mission(const MissionLog& log, const ReplayOptions& options)
       row.icn = row.icn_estimated = row.sinr_nv_db = row.sinr_zf_db = row.sinr_mf_db = kNan;
       row.sum_rate_zf_bps_hz = kNan;
     }
-    icn_sum += row.icn;
+    if (all_truth) {
+      icn_sum += row.icn;
+      ++icn_epochs;
+    }
+    out.silent_uav_epochs += row.silent_uavs;
     out.fallback_uav_epochs += row.fallback_uavs;
     if (row.fallback_uavs > 0) ++out.fallback_epochs;
     out.epochs.push_back(row);
   }
-  out.mean_icn = icn_sum / num_epochs;
+  out.mean_icn = icn_epochs > 0 ? icn_sum / icn_epochs : kNan;
   if (log.final_truth_m && log.final_truth_m->cols() == nr) {
     ReplayEpochMetrics row;
     row.epoch = *log.final_truth_epoch;
@@ -247,8 +264,26 @@ std::vector<std::pair<std::string, std::string>> summary_rows(const MissionLog& 
                  std::to_string(r.refined_beliefs_bitwise_equal) + "/" + std::to_string(r.refined_beliefs_compared)});
     s.push_back({"refined_cov_max_rel_diff", num(r.refined_cov_max_rel_diff)});
   }
+  // The recorded run's end (END_OF_LOG); summary.csv has it for a run ended by a fault only, so
+  // that the other golden summaries stay as they were.
+  if (!log.run_end.status.empty() && (log.run_faulted() || !stable)) {
+    s.push_back({"status", log.run_end.status});
+    if (log.run_faulted()) {
+      s.push_back({"fault_uav", std::to_string(log.run_end.fault_uav)});
+      s.push_back({"fault", log.run_end.fault.empty() ? "(not in the log)" : log.run_end.fault});
+    }
+  }
+  if (r.silent_uav_epochs > 0) s.push_back({"silent_uav_epochs", std::to_string(r.silent_uav_epochs)});
   for (const auto& [what, n] : log.skipped) s.push_back({"skipped " + what, std::to_string(n)});
   return s;
+}
+
+// A CSV field, quoted (RFC 4180) when it holds a comma, a quote or a line break (a fault reason).
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string q = "\"";
+  for (char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
 }
 
 std::ofstream open_out(const std::filesystem::path& p) {
@@ -296,7 +331,7 @@ void write_replay_csv(const MissionLog& log, const ReplayResult& r, const std::s
   {
     std::ofstream f = open_out(d / "summary.csv");
     f << "key,value\n";
-    for (const auto& [k, v] : summary_rows(log, r, true)) f << k << "," << v << "\n";
+    for (const auto& [k, v] : summary_rows(log, r, true)) f << csv_field(k) << "," << csv_field(v) << "\n";
     if (!f) throw std::runtime_error((d / "summary.csv").string() + ": write failed");
   }
 }
@@ -348,6 +383,12 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
     return 1;
   }
   out << "read: " << log.read_status.describe() << "\n";
+  if (log.run_faulted()) {
+    err << "losmimo-replay: " << options.rawlog_path << ": the recorded run was ended by a fault ("
+        << log.run_end.status << "): " << (log.run_end.fault.empty() ? "reason not in the log" : log.run_end.fault)
+        << "; its " << log.epochs.size() << " epochs up to the fault were replayed\n";
+    return 3;
+  }
   return 0;
 }
 

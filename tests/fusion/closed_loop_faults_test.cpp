@@ -5,8 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <map>
-#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -17,41 +15,16 @@
 #include "losmimo/fusion/rawlog_recorder.h"
 #include "losmimo/localization/robustness.h"
 #include "losmimo/placement/input_error.h"
+#include "closed_loop_fixtures.h"
 
 namespace losmimo::fusion {
 namespace {
 
-constexpr double kSigmaAct_m = 0.02;
-
-placement::PlacementSettings settings_with_cap(int max_iterations) {
-  placement::PlacementSettings s;
-  s.errors.sigma_act_m = kSigmaAct_m;
-  s.run.max_iterations = max_iterations;
-  return s;
-}
-
-Eigen::Matrix3Xd start_positions(const placement::Scenario& scenario, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  return placement::random_start_positions_m(scenario, rng);
-}
-
-ClosedLoopConfig nominal_config(const placement::Scenario& scenario) {
-  return matched_closed_loop_config(localization::SimulatorConfig{}, scenario);
-}
-
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
-
-// Keeps what the observer sees: every epoch, and the true positions after every iteration.
-struct Recorder : ClosedLoopObserver {
-  std::vector<EpochObservation> epochs;
-  std::map<int, Eigen::Matrix3Xd> positions_after;  // iteration -> true positions
-  void on_epoch(const EpochObservation& e) override { epochs.push_back(e); }
-  void on_iteration_end(int iteration, const placement::Swarm& swarm) override {
-    positions_after[iteration] = swarm.true_positions_m();
-  }
-};
+using testing::contains;
+using testing::LoopRecorder;
+using testing::nominal_config;
+using testing::paper_settings;
+using testing::start_positions;
 
 // One run through ClosedLoopPlanner and run_placement, keeping the planner's final beliefs.
 struct Outcome {
@@ -82,12 +55,12 @@ void expect_finite_beliefs(const Outcome& o) {
 
 TEST(ClosedLoopFaults, UavUnresponsiveFromIteration5_EndsTheRunNamingItWithinNPlus1Iterations) {
   // GIVEN: UAV 4 stops responding at iteration 5; the master's threshold is 3 iterations.
-  const placement::PlacementSettings settings = settings_with_cap(600);
+  const placement::PlacementSettings settings = paper_settings(600);
   ClosedLoopConfig config = nominal_config(settings.scenario);
   constexpr int kUav = 4, kFrom = 5, kThreshold = 3;
   config.unresponsive_after_iterations = kThreshold;
   config.faults.push_back({UavFaultKind::kUnresponsive, kUav, kFrom, 0});
-  Recorder recorder;
+  LoopRecorder recorder;
   // WHEN
   const Outcome o = run(settings, config, 1, &recorder);
   // THEN: found at iteration 5 + 3 - 1 = 7, not at the cap, with UAV, duration and start.
@@ -117,7 +90,7 @@ TEST(ClosedLoopFaults, UavUnresponsiveFromIteration5_EndsTheRunNamingItWithinNPl
 }
 
 TEST(ClosedLoopFaults, UavUnresponsiveFromTheStartWithThreshold1_IsFoundAtIteration1) {
-  const placement::PlacementSettings settings = settings_with_cap(100);
+  const placement::PlacementSettings settings = paper_settings(100);
   ClosedLoopConfig config = nominal_config(settings.scenario);
   config.unresponsive_after_iterations = 1;
   config.faults.push_back({UavFaultKind::kUnresponsive, 15, 1, 0});
@@ -130,7 +103,7 @@ TEST(ClosedLoopFaults, UavUnresponsiveFromTheStartWithThreshold1_IsFoundAtIterat
 
 TEST(ClosedLoopFaults, UavSilentForFewerIterationsThanTheThreshold_IsNotFlagged) {
   // GIVEN: UAV 2 is silent for iterations 5 and 6 only; threshold 3.
-  const placement::PlacementSettings settings = settings_with_cap(40);
+  const placement::PlacementSettings settings = paper_settings(40);
   ClosedLoopConfig config = nominal_config(settings.scenario);
   config.faults.push_back({UavFaultKind::kUnresponsive, 2, 5, 2});
   // WHEN
@@ -143,7 +116,7 @@ TEST(ClosedLoopFaults, UavSilentForFewerIterationsThanTheThreshold_IsNotFlagged)
 }
 
 TEST(ClosedLoopFaults, NoFaults_NoSilenceNoRejectionAndTheSameRunAsWithAnEmptyFaultList) {
-  const placement::PlacementSettings settings = settings_with_cap(60);
+  const placement::PlacementSettings settings = paper_settings(60);
   const ClosedLoopConfig config = nominal_config(settings.scenario);
   ClosedLoopConfig config_other_threshold = config;
   config_other_threshold.unresponsive_after_iterations = 1;  // never triggers without faults
@@ -159,10 +132,10 @@ TEST(ClosedLoopFaults, NoFaults_NoSilenceNoRejectionAndTheSameRunAsWithAnEmptyFa
 
 TEST(ClosedLoopFaults, NanBeacon_IsRejectedBeforeTheFilterAndTheRunContinuesFinite) {
   // GIVEN: UAV 1's beacons have a NaN range from iteration 3 (epoch 2) on.
-  const placement::PlacementSettings settings = settings_with_cap(40);
+  const placement::PlacementSettings settings = paper_settings(40);
   ClosedLoopConfig config = nominal_config(settings.scenario);
   config.faults.push_back({UavFaultKind::kNanBeacon, 1, 3, 0});
-  Recorder recorder;
+  LoopRecorder recorder;
   // WHEN
   const Outcome o = run(settings, config, 5, &recorder);
   // THEN: one rejection per epoch 2 .. iterations - 1, the filter never saw them, and the UAV
@@ -187,10 +160,10 @@ TEST(ClosedLoopFaults, NanBeacon_IsRejectedBeforeTheFilterAndTheRunContinuesFini
 
 TEST(ClosedLoopFaults, NanDisplacement_IsRejectedAndTheFilterPredictsWithoutIt) {
   // GIVEN: UAV 6's dead reckoning reads NaN in iterations 4 .. 8.
-  const placement::PlacementSettings settings = settings_with_cap(40);
+  const placement::PlacementSettings settings = paper_settings(40);
   ClosedLoopConfig config = nominal_config(settings.scenario);
   config.faults.push_back({UavFaultKind::kNanDisplacement, 6, 4, 5});
-  Recorder recorder;
+  LoopRecorder recorder;
   // WHEN
   const Outcome o = run(settings, config, 6, &recorder);
   // THEN
@@ -210,11 +183,11 @@ TEST(ClosedLoopFaults, NanDisplacement_IsRejectedAndTheFilterPredictsWithoutIt) 
 
 TEST(ClosedLoopFaults, NanCsi_IsRejectedBeforeTheRefinement) {
   // GIVEN: refinement with CSI; UAV 0's CSI row has a NaN entry from iteration 2 (epoch 1) on.
-  const placement::PlacementSettings settings = settings_with_cap(8);
+  const placement::PlacementSettings settings = paper_settings(8);
   ClosedLoopConfig config = nominal_config(settings.scenario);
   config.refine = true;
   config.faults.push_back({UavFaultKind::kNanCsi, 0, 2, 0});
-  Recorder recorder;
+  LoopRecorder recorder;
   // WHEN
   const Outcome o = run(settings, config, 7, &recorder);
   // THEN: UAV 0 refines without CSI from epoch 1 on; every row the refinement used is finite.
@@ -237,7 +210,7 @@ TEST(ClosedLoopFaults, NanCsi_IsRejectedBeforeTheRefinement) {
 TEST(ClosedLoopFaults, FilterStateOverflow_EndsTheRunWithANumericalFaultNamingUavAndEpoch) {
   // GIVEN: no beacon at epoch 0 (prior), then only absurd beacons (range ~ N(r, (1e300 m)^2)):
   // gated twice, then the reset rule takes a beacon fix whose covariance overflows.
-  const placement::PlacementSettings settings = settings_with_cap(100);
+  const placement::PlacementSettings settings = paper_settings(100);
   ClosedLoopConfig config = nominal_config(settings.scenario);
   config.simulator.outlier_fraction = 1.0;
   config.simulator.outlier_sigma_range_m = 1e300;
@@ -256,7 +229,7 @@ TEST(ClosedLoopFaults, FilterStateOverflow_EndsTheRunWithANumericalFaultNamingUa
 }
 
 TEST(ClosedLoopFaults, AbsurdBeaconAtEpoch0_EndsTheRunAtIteration0) {
-  const placement::PlacementSettings settings = settings_with_cap(100);
+  const placement::PlacementSettings settings = paper_settings(100);
   ClosedLoopConfig config = nominal_config(settings.scenario);
   config.simulator.outlier_fraction = 1.0;
   config.simulator.outlier_sigma_range_m = 1e300;
@@ -290,7 +263,7 @@ TEST(ClosedLoopFaults, BadFaultSettings_AreRejectedNamingTheField) {
   c.faults.push_back({UavFaultKind::kNanCsi, 1, 1, 0});
   EXPECT_TRUE(contains(message(c), "faults[0] = nan_csi: needs refine = true")) << message(c);
   // A UAV index beyond the swarm is found at start().
-  const placement::PlacementSettings settings = settings_with_cap(10);
+  const placement::PlacementSettings settings = paper_settings(10);
   c = nominal_config(scenario);
   c.faults.push_back({UavFaultKind::kUnresponsive, 16, 1, 0});
   EXPECT_THROW(run(settings, c, 1), std::invalid_argument);

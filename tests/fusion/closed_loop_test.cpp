@@ -9,32 +9,19 @@
 #include <cstring>
 #include <stdexcept>
 #include <iostream>
-#include <random>
 #include <thread>
 
 #include "losmimo/fusion/closed_loop.h"
+#include "closed_loop_fixtures.h"
 
 namespace losmimo::fusion {
 namespace {
 
-constexpr double kSigmaAct_m = 0.02;
+using testing::nominal_config;
+using testing::paper_settings;
+using testing::start_positions;
+
 constexpr int kMaxIterations = 600;
-
-placement::PlacementSettings paper_settings() {
-  placement::PlacementSettings s;
-  s.errors.sigma_act_m = kSigmaAct_m;
-  s.run.max_iterations = kMaxIterations;
-  return s;
-}
-
-Eigen::Matrix3Xd start_positions(const placement::Scenario& scenario, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  return placement::random_start_positions_m(scenario, rng);
-}
-
-ClosedLoopConfig nominal_config(const placement::Scenario& scenario) {
-  return matched_closed_loop_config(localization::SimulatorConfig{}, scenario);
-}
 
 void print(const std::string& label, const ClosedLoopRun& r) {
   const ClosedLoopStats& s = r.stats;
@@ -51,7 +38,7 @@ void print(const std::string& label, const ClosedLoopRun& r) {
 
 TEST(ClosedLoop, NominalEkf_ConvergesFromMostStartsAndBeatsTheBeaconAlone) {
   // GIVEN: the paper scenario, the default beacon (0.1 m per axis at 1 km), matched EKF.
-  const placement::PlacementSettings settings = paper_settings();
+  const placement::PlacementSettings settings = paper_settings(kMaxIterations);
   const ClosedLoopConfig config = nominal_config(settings.scenario);
   constexpr int kStarts = 5;
   int converged = 0;
@@ -71,7 +58,7 @@ TEST(ClosedLoop, NominalEkf_ConvergesFromMostStartsAndBeatsTheBeaconAlone) {
 
 TEST(ClosedLoop, BeaconRemovedForOneUavFromTheStart_ThatUavRunsBfAndTheRunConverges) {
   // GIVEN: UAV 3 never receives the beacon; the others are nominal.
-  const placement::PlacementSettings settings = paper_settings();
+  const placement::PlacementSettings settings = paper_settings(kMaxIterations);
   ClosedLoopConfig config = nominal_config(settings.scenario);
   constexpr int kLost = 3;
   config.outages.push_back({kLost, {0, 1'000'000}});
@@ -92,7 +79,7 @@ TEST(ClosedLoop, BeaconRemovedForOneUavFromTheStart_ThatUavRunsBfAndTheRunConver
 
 TEST(ClosedLoop, BeaconOutageForFourUavsMidMission_TheyFallBackAndReturnToGd) {
   // GIVEN: UAVs 0, 5, 10, 15 lose the beacon for epochs 10..39; degraded after 5 epochs.
-  const placement::PlacementSettings settings = paper_settings();
+  const placement::PlacementSettings settings = paper_settings(kMaxIterations);
   ClosedLoopConfig config = nominal_config(settings.scenario);
   config.filter.degraded_after_epochs = 5;
   constexpr int kFirst = 10, kEpochs = 30;
@@ -126,7 +113,7 @@ TEST(ClosedLoop, BeaconOutageForFourUavsMidMission_TheyFallBackAndReturnToGd) {
 TEST(ClosedLoop, CeresRefinementAtTheLargestBeaconNoise_NotWorseThanTheFilterAlone) {
   // GIVEN: the paper's largest localization error (beacon 0.18 m cross-range), same seeds
   // with and without refinement.
-  const placement::PlacementSettings settings = paper_settings();
+  const placement::PlacementSettings settings = paper_settings(kMaxIterations);
   localization::SimulatorConfig sim;
   sim.sigma_angle_rad = 1.8e-4;
   ClosedLoopConfig off = matched_closed_loop_config(sim, settings.scenario);
@@ -160,7 +147,7 @@ TEST(ClosedLoop, CeresRefinementAtTheLargestBeaconNoise_NotWorseThanTheFilterAlo
 }
 
 TEST(ClosedLoop, ParticleFilter_ConvergesWithConsistentBeliefs) {
-  const placement::PlacementSettings settings = paper_settings();
+  const placement::PlacementSettings settings = paper_settings(kMaxIterations);
   ClosedLoopConfig config = nominal_config(settings.scenario);
   config.filter_kind = localization::FilterKind::kParticle;
   const ClosedLoopRun r =
@@ -173,7 +160,7 @@ TEST(ClosedLoop, ParticleFilter_ConvergesWithConsistentBeliefs) {
 }
 
 TEST(ClosedLoop, FallbackOff_TheUavWithoutBeaconNeverRunsBf) {
-  const placement::PlacementSettings settings = paper_settings();
+  const placement::PlacementSettings settings = paper_settings(kMaxIterations);
   ClosedLoopConfig config = nominal_config(settings.scenario);
   config.fallback_to_bf = false;
   config.outages.push_back({3, {0, 1'000'000}});
@@ -187,7 +174,7 @@ TEST(ClosedLoop, FallbackOff_TheUavWithoutBeaconNeverRunsBf) {
 // Final positions of one run: particle filter and refinement on, so that every generator
 // (actuation, sensors, particles, CSI) is exercised.
 Eigen::Matrix3Xd final_positions(std::uint64_t seed) {
-  placement::PlacementSettings settings = paper_settings();
+  placement::PlacementSettings settings = paper_settings(kMaxIterations);
   settings.run.max_iterations = 40;
   ClosedLoopConfig config = nominal_config(settings.scenario);
   config.filter_kind = localization::FilterKind::kParticle;
@@ -218,7 +205,7 @@ TEST(ClosedLoop, SameSeed_BitwiseIdenticalSequentiallyAndInTwoThreads) {
 }
 
 TEST(ClosedLoop, BadConfig_ThrowsNamingFieldAndValue) {
-  const placement::PlacementSettings settings = paper_settings();
+  const placement::PlacementSettings settings = paper_settings(kMaxIterations);
   const Eigen::Matrix3Xd start = start_positions(settings.scenario, 100);
   const auto message = [&](const ClosedLoopConfig& config) -> std::string {
     try {
@@ -265,7 +252,7 @@ TEST(ClosedLoopSweep, DISABLED_Variants) {
       {"pf", localization::FilterKind::kParticle, false, GdBeliefMode::kMean},
   };
   for (const double sigma_angle_rad : {1e-4, 1.8e-4}) {
-    const placement::PlacementSettings settings = paper_settings();
+    const placement::PlacementSettings settings = paper_settings(kMaxIterations);
     localization::SimulatorConfig sim;
     sim.sigma_angle_rad = sigma_angle_rad;
     for (const Variant& v : variants) {

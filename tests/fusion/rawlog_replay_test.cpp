@@ -16,14 +16,10 @@ namespace losmimo::fusion {
 namespace {
 
 using testing::read_file_bytes;
+using testing::load_log;
 using testing::small_mission;
 using testing::source_path;
 using testing::temp_path;
-
-MissionLog load(const std::string& path) {
-  RawlogReader reader = RawlogReader::open_file(path);
-  return load_mission_log(reader);
-}
 
 std::vector<std::vector<std::string>> csv_rows(const std::string& text) {
   std::vector<std::vector<std::string>> rows;
@@ -76,7 +72,7 @@ TEST_P(GoldenReplay, MatchesTheGoldenCsv) {
   // GIVEN: a shipped mission and its golden outputs (scripts/regenerate-golden).
   const GoldenCase& c = GetParam();
   const std::string dir = source_path("datasets/missions/" + c.mission);
-  const MissionLog log = load(dir + "/mission.rawlog");
+  const MissionLog log = load_log(dir + "/mission.rawlog");
   ASSERT_TRUE(log.complete) << log.stop_description();
   // WHEN
   ReplayOptions options;
@@ -116,7 +112,7 @@ TEST(RawlogReplay, RecordedEstimators_ReproduceTheLoggedBeliefsBitwise) {
     const std::string path = temp_path("bitwise_" + filter + ".rawlog");
     const RecordResult rec = record_mission(config, {path, 6, {}});
     // WHEN: replayed with the same estimator.
-    const ReplayResult r = replay_mission(load(path), {});
+    const ReplayResult r = replay_mission(load_log(path), {});
     // THEN: every filter belief and refined mean equal, bit for bit.
     EXPECT_TRUE(r.same_as_recorded);
     EXPECT_EQ(r.filter_beliefs_compared, rec.epochs * 4) << filter;
@@ -135,7 +131,7 @@ TEST(RawlogReplay, IcnAlongTheTrajectory_EqualsTheRunsOwnTrace) {
   // the logged true positions (an SVD of H rebuilt from scratch).
   const std::string path = temp_path("icn.rawlog");
   const RecordResult rec = record_mission(small_mission("ekf", false), {path, 6, {}});
-  const ReplayResult r = replay_mission(load(path), {});
+  const ReplayResult r = replay_mission(load_log(path), {});
   // THEN: epoch k's positions are the run's iteration k; the final row is the last iteration.
   ASSERT_EQ(r.epochs.size(), rec.run.run.trace.size());
   for (std::size_t k = 0; k < r.epochs.size(); ++k)
@@ -145,7 +141,7 @@ TEST(RawlogReplay, IcnAlongTheTrajectory_EqualsTheRunsOwnTrace) {
 
 TEST(RawlogReplay, OtherEstimator_IsACoEvaluationOnTheSameData) {
   // GIVEN: the nominal mission (EKF). WHEN: replayed with the particle filter.
-  const MissionLog log = load(source_path("datasets/missions/nominal/mission.rawlog"));
+  const MissionLog log = load_log(source_path("datasets/missions/nominal/mission.rawlog"));
   ReplayOptions pf;
   pf.estimator = localization::FilterKind::kParticle;
   const ReplayResult a = replay_mission(log, {});

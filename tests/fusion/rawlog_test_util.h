@@ -6,21 +6,29 @@
 #include <iterator>
 #include <string>
 
+#include "losmimo/fusion/rawlog_log.h"
 #include "losmimo/fusion/rawlog_mission.h"
 
 namespace losmimo::fusion::testing {
 
 // 2 x 2 BS, 4 UAVs, 12 iterations at most; EKF + Ceres (CSI from the loop), UAV 1 without
-// beacon for epochs 3-6: every stream and an outage, in well under a second.
-inline MissionConfig small_mission(const std::string& filter = "ekf", bool refine = true) {
+// beacon for epochs 3-6: every stream and an outage, in well under a second. `closed_loop_keys`:
+// further "key = value" lines of [closed_loop] (e.g. "faults = unresponsive:2:4\n").
+inline MissionConfig small_mission(const std::string& filter = "ekf", bool refine = true,
+                                   const std::string& closed_loop_keys = "") {
   placement::IniConfig ini = placement::IniConfig::from_string(
       "[scenario]\nbs_rows = 2\nbs_cols = 2\nnum_uavs = 4\n"
       "[errors]\nsigma_act_m = 0.02\n"
       "[placement]\nmax_iterations = 12\n"
       "[closed_loop]\nfilter = " + filter + "\nrefine = " + (refine ? "true" : "false") +
-      "\nnum_particles = 300\noutages = 1:3:4\n"
+      "\nnum_particles = 300\noutages = 1:3:4\n" + closed_loop_keys +
       "[mission]\nseed = 11\nstart_seed = 5\n", "small_mission");
   return load_mission_config(ini);
+}
+
+inline MissionLog load_log(const std::string& path) {
+  RawlogReader reader = RawlogReader::open_file(path);
+  return load_mission_log(reader);
 }
 
 inline std::string temp_path(const std::string& name) {

@@ -19,10 +19,13 @@
 //   UAVnn_MOVE         CObservationRawDAQ    AIN_double = {iteration, mode (0 GD, 1 BF,
 //                                            2 escape), commanded x y z, actual x y z}
 //   EPOCH_END          CObservationComment   integrity mark closing epoch k (key=value lines)
-//   END_OF_LOG         CObservationComment   final mark: counts of everything written
+//   END_OF_LOG         CObservationComment   final mark: counts of everything written, the
+//                                            run's status, and for a run ended by a fault
+//                                            fault_uav and fault (the reason)
 // nn is the UAV index, two digits or more (UAV07, UAV123). Frame: BS array frame (metres).
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -58,5 +61,23 @@ inline constexpr double kMoveEscape = 2.0;
 // FNV-1a 64-bit over bytes, continuing from `hash` (the digest of the integrity marks).
 inline constexpr std::uint64_t kFnvOffset = 0xcbf29ce484222325ULL;
 std::uint64_t fnv1a64(const void* data, std::size_t size, std::uint64_t hash = kFnvOffset);
+std::string hex64(std::uint64_t v);  // 16 lower-case hex digits
+
+// The marks' text: "key = value" lines, closed by "text_digest = <hex64 of the text before it>".
+std::string with_text_digest(const std::string& text);  // appends the text_digest line
+bool text_digest_matches(const std::string& text);
+std::map<std::string, std::string> parse_mark_keys(const std::string& text);
+
+// How the run ended, from END_OF_LOG: status (placement::to_string(RunStatus)), and for a run
+// ended by a fault (uav_unresponsive, numerical_fault) fault_uav and fault, the reason (absent
+// in logs written before the reason was logged).
+struct RunEnd {
+  std::string status;
+  int fault_uav = -1;  // -1: none named
+  std::string fault;
+};
+bool is_fault_status(const std::string& status);
+// Reads `keys` into `out`; returns "" or what is wrong, naming the field and its value.
+std::string read_run_end(const std::map<std::string, std::string>& keys, int num_uavs, RunEnd& out);
 
 }  // namespace losmimo::fusion

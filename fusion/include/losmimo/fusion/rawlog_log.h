@@ -25,6 +25,7 @@
 #include <Eigen/Core>
 
 #include "losmimo/fusion/csi.h"
+#include "losmimo/fusion/rawlog_format.h"
 #include "losmimo/fusion/rawlog_mission.h"
 #include "losmimo/fusion/rawlog_reader.h"
 #include "losmimo/localization/measurements.h"
@@ -33,6 +34,10 @@ namespace losmimo::fusion {
 
 // One UAV at one epoch.
 struct LoggedUavEpoch {
+  // Ours: any record of this UAV in this epoch. false: nothing arrived from it (an unresponsive
+  // UAV, closed_loop.h, or the UAVs after the one whose fault stopped the epoch): the loop kept
+  // its belief as it was, and so does the replay.
+  bool reported = false;
   std::optional<Eigen::Vector3d> truth_m;
   std::optional<Eigen::Vector3d> displacement_m;  // dead reckoning since the previous epoch
   std::optional<localization::BeaconMeasurement> beacon;
@@ -54,6 +59,8 @@ struct MissionLog {
   std::optional<int> final_truth_epoch;             // epoch index of the final positions
   std::optional<Eigen::Matrix3Xd> final_truth_m;
   bool complete = false;                            // END_OF_LOG present and verified
+  RunEnd run_end;  // from END_OF_LOG (ours, complete); status empty otherwise
+  bool run_faulted() const { return is_fault_status(run_end.status); }
   std::map<std::string, std::int64_t> used;         // "class label" -> count
   std::map<std::string, std::int64_t> skipped;      // "class label" -> count
   RawlogReadStatus read_status;
@@ -62,6 +69,8 @@ struct MissionLog {
   std::string stop_description() const;      // where and why the usable data ended
 };
 
+// Ours: an epoch may hold fewer records than UAVs (silent UAVs, or the last epoch of a run a
+// fault stopped part-way through it), as long as the log so far has a record per UAV-epoch.
 // Reads the whole rawlog. Throws placement::InputError (and nothing else) if the log is ours
 // but its CONFIG is not a valid mission config, or if no object at all could be read.
 // Non-finite BEACON64 and CSI values are refused (skipped), as are records of the wrong size.

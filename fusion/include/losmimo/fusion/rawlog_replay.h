@@ -8,16 +8,23 @@
 //            filter = make_filter(kind, filter config, initial, logged filter seed);
 //   epoch k: filter.step(d_k, z_k) (d_k missing -> NaN: the filter's missing-displacement rule);
 //   refine:  SlidingWindowRefiner.add_epoch({filter belief, d_k, z_k, {csi_k}}), refine().
+//   silent (ours, no record of the UAV at epoch k: an unresponsive UAV, or a run a fault stopped
+//   part-way through the epoch): neither is stepped, the belief stays as it was, as in the loop.
 // So replaying with the recorded estimator reproduces the logged beliefs bit for bit; another
 // estimator is a co-evaluation on the same measurements.
 // Evaluation, per epoch with every UAV's truth: the channel H at the true positions (ICN, and
 // stream-1 SINR NV/ZF/MF, ZF sum rate, scenario's noise), the ICN at the estimated positions,
 // and per UAV the error e = mean - truth (3-D, lateral = y and z), NEES e^T P^-1 e. A UAV-epoch
-// is a fallback when the belief placement would use is degraded (and the config's fallback is on).
+// is a fallback when the belief placement would use is degraded (and the config's fallback is on),
+// unless the log says the UAV was not commanded in that iteration (mode '-'). An epoch without
+// every UAV's truth (a silent UAV's is not logged) has no ICN or SINR (nan); mean_icn averages
+// the others.
 //
 // Outputs (--out DIR): estimates.csv (epoch, uav, truth, estimate, sigmas, errors, NEES,
-// degraded, beacon), epochs.csv (per-epoch metrics), summary.csv (key,value; the rows that
-// depend on the process, refined covariances' last bits, go to stdout only).
+// degraded, beacon), epochs.csv (per-epoch metrics), summary.csv (key,value, RFC 4180 quoting;
+// the rows that depend on the process, refined covariances' last bits, go to stdout only). A
+// log of a run ended by a fault adds status, fault_uav and fault (END_OF_LOG) to summary.csv;
+// stdout has the status of every complete log of ours.
 
 #include <cstdint>
 #include <iosfwd>
@@ -42,6 +49,7 @@ struct ReplayUavEpoch {
   int uav = 0;
   localization::Belief filter_belief;
   localization::Belief belief;  // what placement would use (refined, or the filter's)
+  bool silent = false;  // ours: nothing arrived in this epoch; the belief is held from the last one
   bool has_beacon = false;
   bool has_truth = false;
   Eigen::Vector3d truth_m = Eigen::Vector3d::Zero();
@@ -55,6 +63,7 @@ struct ReplayEpochMetrics {
   double sinr_nv_db = 0.0, sinr_zf_db = 0.0, sinr_mf_db = 0.0, sum_rate_zf_bps_hz = 0.0;
   double rmse_m = 0.0, lateral_rmse_m = 0.0, mean_nees = 0.0;
   int fallback_uavs = 0, beacons = 0;
+  int silent_uavs = 0;  // UAVs from which nothing arrived (their truth is not logged: ICN nan)
 };
 
 struct ReplayResult {
@@ -65,8 +74,10 @@ struct ReplayResult {
   // Summary over every UAV-epoch with truth.
   double rmse_m = 0.0, lateral_rmse_m = 0.0, average_nees = 0.0;
   double filter_rmse_m = 0.0;
-  double final_icn = 0.0, final_sinr_zf_db = 0.0, mean_icn = 0.0;
+  double final_icn = 0.0, final_sinr_zf_db = 0.0;
+  double mean_icn = 0.0;  // over the epochs with every UAV's truth (nan if none)
   int fallback_uav_epochs = 0, fallback_epochs = 0;
+  int silent_uav_epochs = 0;
   int num_beacons = 0, num_inexact_beacons = 0;
   // Against the logged beliefs (ours): how many were compared and how many equal bit for bit.
   int filter_beliefs_compared = 0, filter_beliefs_bitwise_equal = 0;
@@ -87,7 +98,9 @@ void write_replay_csv(const MissionLog& log, const ReplayResult& result, const s
 
 // The app. Exit code: 0 complete log replayed, 2 bad input (missing file, not a rawlog, bad
 // option or CONFIG), 1 runtime error or truncated/corrupt log (its readable prefix replayed and
-// written, the report says where and why reading stopped).
+// written, the report says where and why reading stopped), 3 complete log of a run that was
+// ended by a fault (losmimo-record's exit 3): every epoch up to the fault replayed and written,
+// the status and the reason from END_OF_LOG go to `err`.
 struct ReplayAppOptions {
   std::string rawlog_path;
   std::string estimator;  // "", "ekf" or "pf"
