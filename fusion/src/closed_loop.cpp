@@ -214,7 +214,9 @@ void ClosedLoopPlanner::start(placement::Swarm& swarm) {
     if (!silent) z0 = uav.simulator.measure_beacon(q, 0);
     if (z0 && fault_active(UavFaultKind::kNanBeacon, m, 1))
       z0->range_m = std::numeric_limits<double>::quiet_NaN();
-    if (z0 && !localization::is_finite(*z0)) {
+    // The first fix is taken here, not by the filter, so the filter's plausibility screen
+    // (finite, range within max_beacon_range_m, elevation within +-pi/2) is applied here too.
+    if (z0 && !localization::is_plausible(config_.filter, *z0)) {
       ++modes_.rejected_beacons[m];
       z0.reset();
     }
@@ -285,7 +287,7 @@ void ClosedLoopPlanner::localize(placement::Swarm& swarm, int epoch) {
     Eigen::Vector3d d_meas = uav.simulator.measure_displacement(q - uav.last_q_m);
     uav.last_q_m = q;
     std::optional<localization::BeaconMeasurement> z = uav.simulator.measure_beacon(q, epoch);
-    // Injected faults, then the master's screening: nothing non-finite goes further.
+    // Injected faults, then the master's screening: nothing non-finite or implausible goes further.
     if (fault_active(UavFaultKind::kNanDisplacement, m, iteration))
       d_meas.x() = std::numeric_limits<double>::quiet_NaN();
     if (z && fault_active(UavFaultKind::kNanBeacon, m, iteration))
@@ -295,7 +297,8 @@ void ClosedLoopPlanner::localize(placement::Swarm& swarm, int epoch) {
       ++modes_.rejected_displacements[m];
       d_used.reset();
     }
-    if (z && !localization::is_finite(*z)) {
+    // Implausible beacons too: the refinement would take them as residuals.
+    if (z && !localization::is_plausible(config_.filter, *z)) {
       ++modes_.rejected_beacons[m];
       z.reset();
     }

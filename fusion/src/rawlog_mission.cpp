@@ -117,6 +117,7 @@ std::map<std::string, std::set<std::string>> mission_config_keys() {
                  "dr_sigma_fraction",
                  "filter_sigma_range_m",
                  "filter_sigma_angle_rad",
+                 "filter_max_beacon_range_m",
                  "degraded_after_epochs",
                  "outages",
                  "faults",
@@ -159,6 +160,14 @@ MissionConfig load_mission_config(const placement::IniConfig& ini) {
       ini.get_double(kLoop, "filter_sigma_angle_rad", sim.sigma_angle_rad);
   cl.filter.degraded_after_epochs = static_cast<int>(
       ini.get_integer(kLoop, "degraded_after_epochs", cl.filter.degraded_after_epochs, 1, 1'000'000));
+  cl.filter.max_beacon_range_m =
+      ini.get_double(kLoop, "filter_max_beacon_range_m", cl.filter.max_beacon_range_m);
+  // Checked on its own first, so that a bad limit is not reported as filter_sigma_range_m's.
+  check(ini, "filter_max_beacon_range_m", [&] {
+    localization::FilterConfig limit_only;
+    limit_only.max_beacon_range_m = cl.filter.max_beacon_range_m;
+    localization::validate(limit_only);
+  });
   check(ini, "filter_sigma_range_m", [&] { localization::validate(cl.filter); });
   check(ini, "filter_sigma_angle_rad",  // e.g. a zero filter sigma (also found by fuzz_rawlog)
         [&] { cl.refinement = refinement_config_from(cl.filter.noise, sc.noise_variance()); });
@@ -234,6 +243,9 @@ std::string mission_to_ini(const MissionConfig& c) {
         << f.num_iterations;
     }
   }
+  // Likewise the beacon range limit only when not the default.
+  if (cl.filter.max_beacon_range_m != localization::FilterConfig{}.max_beacon_range_m)
+    o << "\nfilter_max_beacon_range_m = " << cl.filter.max_beacon_range_m;
   if (!cl.faults.empty() || cl.unresponsive_after_iterations != ClosedLoopConfig{}.unresponsive_after_iterations)
     o << "\nunresponsive_after_iterations = " << cl.unresponsive_after_iterations;
   o << "\n\n[mission]\nseed = " << c.seed << "\nstart_seed = " << c.start_seed

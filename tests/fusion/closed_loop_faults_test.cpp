@@ -1,10 +1,12 @@
 // Faults in the closed loop (issue 8): an unresponsive UAV is found by the master and ends the
 // run with kUavUnresponsive; NaN beacons, displacements and CSI rows are dropped before the
-// filter, the refinement and placement; a non-finite filter state ends the run with
+// filter, the refinement and placement, and so are implausible beacons (beyond
+// max_beacon_range_m); a non-finite filter state ends the run with
 // kNumericalFault. Paper scenario (16 UAVs, 4 x 4 BS, 1 km). Seeded, never retried.
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -208,12 +210,14 @@ TEST(ClosedLoopFaults, NanCsi_IsRejectedBeforeTheRefinement) {
 }
 
 TEST(ClosedLoopFaults, FilterStateOverflow_EndsTheRunWithANumericalFaultNamingUavAndEpoch) {
-  // GIVEN: no beacon at epoch 0 (prior), then only absurd beacons (range ~ N(r, (1e300 m)^2)):
-  // gated twice, then the reset rule takes a beacon fix whose covariance overflows.
+  // GIVEN: no beacon at epoch 0 (prior), then only absurd beacons (range ~ N(r, (1e300 m)^2)),
+  // with the plausibility screen opened (a sensor without a range limit): gated twice, then the
+  // reset rule takes a beacon fix whose covariance overflows.
   const placement::PlacementSettings settings = paper_settings(100);
   ClosedLoopConfig config = nominal_config(settings.scenario);
   config.simulator.outlier_fraction = 1.0;
   config.simulator.outlier_sigma_range_m = 1e300;
+  config.filter.max_beacon_range_m = std::numeric_limits<double>::max();
   config.filter.reset_after_rejections = 2;
   for (int m = 0; m < settings.scenario.num_uavs; ++m) config.outages.push_back({m, {0, 1}});
   // WHEN
@@ -228,11 +232,38 @@ TEST(ClosedLoopFaults, FilterStateOverflow_EndsTheRunWithANumericalFaultNamingUa
   EXPECT_TRUE(o.run.final_m.allFinite());
 }
 
-TEST(ClosedLoopFaults, AbsurdBeaconAtEpoch0_EndsTheRunAtIteration0) {
+TEST(ClosedLoopFaults, AbsurdBeacons_AreDroppedByTheMasterAndTheRunGoesOn) {
+  // GIVEN: every beacon absurd (range ~ N(r, (1e300 m)^2)), epoch 0 included, and the default
+  // plausibility screen (max_beacon_range_m = 1e5 m).
+  const placement::PlacementSettings settings = paper_settings(30);
+  ClosedLoopConfig config = nominal_config(settings.scenario);
+  config.simulator.outlier_fraction = 1.0;
+  config.simulator.outlier_sigma_range_m = 1e300;
+  LoopRecorder recorder;
+  // WHEN
+  const Outcome o = run(settings, config, 9, &recorder);
+  // THEN: no fault; not one beacon reached the filter or the refinement; each was counted
+  // (all but a vanishing fraction of N(r, 1e300^2) draws lie beyond 1e5 m).
+  EXPECT_NE(o.run.status, placement::RunStatus::kNumericalFault) << o.run.fault;
+  ASSERT_FALSE(recorder.epochs.empty());
+  for (const EpochObservation& e : recorder.epochs) {
+    EXPECT_FALSE(e.beacon.has_value()) << "epoch " << e.epoch << ", UAV " << e.uav;
+  }
+  const int uavs = settings.scenario.num_uavs;
+  for (int m = 0; m < uavs; ++m) {
+    // one beacon per epoch (beacon_period_epochs = 1), epochs 0..iterations - 1
+    EXPECT_EQ(o.stats.rejected_beacons[m], o.run.iterations) << "UAV " << m;
+  }
+  expect_finite_beliefs(o);
+  EXPECT_TRUE(o.run.final_m.allFinite());
+}
+
+TEST(ClosedLoopFaults, AbsurdBeaconAtEpoch0WithTheScreenOpened_EndsTheRunAtIteration0) {
   const placement::PlacementSettings settings = paper_settings(100);
   ClosedLoopConfig config = nominal_config(settings.scenario);
   config.simulator.outlier_fraction = 1.0;
   config.simulator.outlier_sigma_range_m = 1e300;
+  config.filter.max_beacon_range_m = std::numeric_limits<double>::max();
   const Outcome o = run(settings, config, 9);
   EXPECT_EQ(o.run.status, placement::RunStatus::kNumericalFault);
   EXPECT_EQ(o.run.iterations, 0);
@@ -310,6 +341,28 @@ TEST(MissionConfigFaults, FaultKeys_ParseRoundTripAndRejectBadValues) {
   EXPECT_TRUE(contains(error("[closed_loop]\nunresponsive_after_iterations = 0\n"),
                        "unresponsive_after_iterations"));
   EXPECT_TRUE(contains(error("[closed_loop]\nfaults = unresponsive:1:2\n"), "accepted"));
+}
+
+TEST(MissionConfigFaults, BeaconRangeLimitKey_ParsesRoundTripsAndRejectsBadValues) {
+  const MissionConfig defaults = load_mission_config(placement::IniConfig());
+  EXPECT_EQ(defaults.closed_loop.filter.max_beacon_range_m, localization::FilterConfig{}.max_beacon_range_m);
+  // Not written when it is the default: the CONFIG of existing missions does not change.
+  EXPECT_FALSE(contains(mission_to_ini(defaults), "max_beacon_range_m"));
+  const MissionConfig c = load_mission_config(
+      placement::IniConfig::from_string("[closed_loop]\nfilter_max_beacon_range_m = 2500\n", "m.ini"));
+  EXPECT_EQ(c.closed_loop.filter.max_beacon_range_m, 2500.0);
+  const MissionConfig again = load_mission_config(placement::IniConfig::from_string(mission_to_ini(c), "again"));
+  EXPECT_EQ(again.closed_loop.filter.max_beacon_range_m, 2500.0);
+  for (const char* bad : {"0", "-1", "inf", "nan", "far"}) {
+    std::string message = "accepted";
+    try {
+      load_mission_config(placement::IniConfig::from_string(
+          std::string("[closed_loop]\nfilter_max_beacon_range_m = ") + bad + "\n", "m.ini"));
+    } catch (const placement::InputError& e) {
+      message = e.what();
+    }
+    EXPECT_TRUE(contains(message, "filter_max_beacon_range_m")) << bad << ": " << message;
+  }
 }
 
 TEST(RecordAppFaults, UnresponsiveUav_ExitCode3WithTheReasonAndAClosedLog) {

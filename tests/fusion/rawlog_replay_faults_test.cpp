@@ -265,6 +265,7 @@ TEST(RawlogReplayFaults, NanBeaconFromIteration3_DroppedByTheMasterAndReplayedId
 }
 
 // The paper scenario (16 UAVs) with absurd beacons (range ~ N(r, (1e300 m)^2), not an INI key)
+// and the plausibility screen opened (no range limit)
 // for UAV 1 from epoch 1; the other UAVs never get a beacon. UAV 1's filter gates them until its
 // reset rule takes a fix whose covariance overflows.
 MissionConfig overflow_mission() {
@@ -277,6 +278,7 @@ MissionConfig overflow_mission() {
       "[closed_loop]\noutlier_fraction = 1\noutages = " + outages + "\n",
       "overflow_mission"));
   config.closed_loop.simulator.outlier_sigma_range_m = 1e300;
+  config.closed_loop.filter.max_beacon_range_m = std::numeric_limits<double>::max();  // screen opened
   return config;
 }
 
@@ -318,6 +320,7 @@ TEST(RawlogReplayFaults, AbsurdBeaconAtEpoch0_OneEpochLogReplaysAndExits3) {
   // an empty ICN trace).
   MissionConfig config = small_mission("ekf", false, "outlier_fraction = 1\n");
   config.closed_loop.simulator.outlier_sigma_range_m = 1e300;
+  config.closed_loop.filter.max_beacon_range_m = std::numeric_limits<double>::max();  // screen opened
   const std::string path = temp_path("absurd_epoch0.rawlog");
   record_mission(config, {path, 6, {}});
   const Live live = run_live(config);

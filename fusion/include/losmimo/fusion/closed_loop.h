@@ -29,7 +29,8 @@
 //
 // Faults (issue 8). The master (this planner) screens every measurement before it reaches the
 // filter, the refinement or placement, and watches every UAV:
-//  - a non-finite beacon (range, azimuth or elevation) or CSI row is dropped, a non-finite
+//  - a non-finite or implausible beacon (localization::is_plausible: range outside
+//    (0, filter.max_beacon_range_m], elevation beyond +-pi/2) or CSI row is dropped, a non-finite
 //    dead-reckoning displacement is passed to the filter as missing (the filter then predicts
 //    with d = 0 and missing_displacement_sigma_m) and to the refinement as none; each is counted
 //    per UAV in ClosedLoopStats (rejected_*). The observer sees what the filter consumed.
@@ -165,7 +166,8 @@ struct ClosedLoopStats {
   std::vector<std::string> mode_trace;     // [iteration - 1][uav]: 'G' or 'B'
   int escapes = 0;                         // successful stall escapes
   int refinement_covariance_fallbacks = 0; // CovarianceSource::kDeadReckoning results
-  // Measurements the master dropped as non-finite, per UAV (see "Faults" above).
+  // Measurements the master dropped, per UAV: non-finite, or beacons failing
+  // localization::is_plausible (see "Faults" above).
   std::vector<int> rejected_beacons;
   std::vector<int> rejected_displacements;
   std::vector<int> rejected_csi;
