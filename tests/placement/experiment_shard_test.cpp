@@ -28,7 +28,7 @@ lp::ExperimentOptions tiny(const fs::path& out, int threads) {
   o.threads = threads;
   o.overrides = {"experiment.trials=3", "experiment.sweeps=sigma_loc_m, sigma_act_m",
                  "experiment.sigma_loc_values_m=0, 0.1", "experiment.sigma_act_values_m=0.04",
-                 "experiment.plots=false", "placement.max_iterations=120"};
+                 "experiment.plots=false", "placement.max_iterations=40"};
   return o;
 }
 
