@@ -763,8 +763,8 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
             << std::setprecision(17) << wall_s << "\n";
       write_file_atomically((dir / "shard.ini").string(), shard.str());
       out << "losmimo-experiment: shard " << slice.shard_index << "/" << slice.shard_count << ": "
-          << results.records.size() << " trial rows, " << threads << " threads, " << std::fixed
-          << std::setprecision(1) << wall_s << " s; records in " << dir.string() << "/records.csv\n";
+          << results.records.size() << " trial rows, " << describe({wall_s, threads}) << "; records in "
+          << dir.string() << "/records.csv\n";
       return 0;
     }
     trials_part.close();
@@ -785,21 +785,21 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
 }
 
 namespace {
-// Adds a shard's own run (its shard.ini `threads` and `wall_s`) to the merge's timing. False
-// when the shard did not record them (a folder written before they were).
-bool add_shard_timing(const IniConfig& shard_ini, RunTiming& timing) {
-  if (!shard_ini.has("shard", "wall_s") || !shard_ini.has("shard", "threads")) return false;
+// Adds a shard's own run (its shard.ini `threads` and `wall_s`) to the merge's timing, if the
+// shard recorded them (folders written before they were did not).
+void add_shard_timing(const IniConfig& shard_ini, RunTiming& timing) {
+  if (!shard_ini.has("shard", "wall_s") || !shard_ini.has("shard", "threads")) return;
   const double wall_s = shard_ini.get_double("shard", "wall_s", 0.0);
   if (!std::isfinite(wall_s) || wall_s < 0.0) {
     throw InputError(shard_ini.where("shard", "wall_s") + " = " + shard_ini.get_string("shard", "wall_s", "") +
                      ": must be a finite number of seconds >= 0");
   }
   const int threads = static_cast<int>(shard_ini.get_integer("shard", "threads", 1, 1, 1'000'000));
+  ++timing.timed_shards;
   timing.slowest_shard_wall_s = std::max(timing.slowest_shard_wall_s, wall_s);
   timing.shards_wall_s += wall_s;
-  timing.min_shard_threads = timing.min_shard_threads == 0 ? threads : std::min(timing.min_shard_threads, threads);
+  timing.min_shard_threads = timing.timed_shards == 1 ? threads : std::min(timing.min_shard_threads, threads);
   timing.max_shard_threads = std::max(timing.max_shard_threads, threads);
-  return true;
 }
 }  // namespace
 
@@ -808,8 +808,6 @@ int merge_experiment_app(const std::vector<std::string>& shard_dirs, const std::
   ExperimentSettings settings;
   ExperimentResults results;
   RunTiming timing;
-  timing.slowest_shard_wall_s = timing.shards_wall_s = 0.0;
-  bool all_timed = true;
   const auto t0 = std::chrono::steady_clock::now();
   try {
     if (shard_dirs.empty()) throw InputError("merge: no shard folders given");
@@ -836,7 +834,7 @@ int merge_experiment_app(const std::vector<std::string>& shard_dirs, const std::
       count = n;
       if (seen.count(i)) throw InputError(d + ": shard " + std::to_string(i) + " given twice (also " + seen[i] + ")");
       seen[i] = d;
-      all_timed = add_shard_timing(ini, timing) && all_timed;
+      add_shard_timing(ini, timing);
       const ExperimentSettings s = load_stored_settings(fs::path(d) / "config.ini", extensions);
       const std::string config = results_config(s);
       if (reference.empty()) {
@@ -872,7 +870,6 @@ int merge_experiment_app(const std::vector<std::string>& shard_dirs, const std::
     const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     timing.wall_s = wall_s;
     timing.shards = static_cast<int>(shard_dirs.size());
-    if (!all_timed) timing.slowest_shard_wall_s = timing.shards_wall_s = std::nan("");
     finish_outputs(settings, extensions, results, dir, timing, false, out, err);
     return 0;
   } catch (const std::exception& e) {

@@ -131,7 +131,7 @@ std::string describe(const RunTiming& t) {
     return o.str();
   }
   o << "merged from " << t.shards << (t.shards == 1 ? " shard" : " shards");
-  if (std::isfinite(t.slowest_shard_wall_s)) {
+  if (t.timed_shards == t.shards) {
     o << " of " << (t.min_shard_threads == t.max_shard_threads
                         ? threads(t.min_shard_threads)
                         : std::to_string(t.min_shard_threads) + " to " + threads(t.max_shard_threads))

@@ -11,7 +11,6 @@
 // 95% confidence interval; a value agrees when |measured - paper| <= CI + the resolution at
 // which it can be read off the paper's plot; every other difference gets a line saying why.
 
-#include <limits>
 #include <string>
 #include <vector>
 
@@ -26,9 +25,10 @@ struct RunTiming {
   double wall_s = 0.0;  // this process: the whole run, or for a merge the merge itself
   int threads = 1;      // this process's threads (all ranks' threads under MPI)
   int shards = 0;       // > 0: merged from this many shard folders
-  // Over the shards that recorded their timing (NaN / 0 when none did, e.g. older folders):
-  double slowest_shard_wall_s = std::numeric_limits<double>::quiet_NaN();
-  double shards_wall_s = std::numeric_limits<double>::quiet_NaN();  // sum over shards
+  // Over the shards that recorded their own run in shard.ini (older folders did not):
+  int timed_shards = 0;
+  double slowest_shard_wall_s = 0.0;
+  double shards_wall_s = 0.0;  // sum over those shards
   int min_shard_threads = 0;
   int max_shard_threads = 0;
 };
