@@ -2,10 +2,10 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "losmimo/placement/eval.h"
+#include "losmimo/apps/eval_app.h"
 
 int main(int argc, char** argv) {
-  losmimo::placement::EvalOptions options;
+  losmimo::apps::EvalOptions options;
   CLI::App app{"Metrics of UAV positions in a LoS MIMO scenario (losmimo)"};
   app.add_option("--positions", options.positions_path, "CSV of UAV positions x,y,z [m]")->required();
   app.add_option("--config", options.config_path, "INI scenario (default: the paper's)");
@@ -16,5 +16,5 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-  return losmimo::placement::run_eval(options, std::cout, std::cerr);
+  return losmimo::apps::run_eval_app(options, std::cout, std::cerr);
 }

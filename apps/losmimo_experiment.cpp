@@ -14,8 +14,8 @@
 #include <mpi.h>
 #endif
 
-#include "losmimo/fusion/experiment_extensions.h"
-#include "losmimo/placement/experiment.h"
+#include "losmimo/apps/experiment_app.h"
+#include "losmimo/coevaluation/extensions.h"
 
 namespace {
 
@@ -50,8 +50,7 @@ std::vector<std::string> mpi_gather(const std::string& mine, int rank, int size)
 }  // namespace
 
 int main(int argc, char** argv) {
-  namespace lp = losmimo::placement;
-  lp::ExperimentOptions options;
+  losmimo::apps::ExperimentOptions options;
   CLI::App app{"Monte Carlo placement experiments: the paper's Figs 1-3 (losmimo)"};
   app.add_option("--config", options.config_path, "INI config (default: the paper's setup, quick trial count)");
   app.add_option("--set", options.overrides, "override a key: section.key=value (repeatable)");
@@ -74,18 +73,18 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-  const lp::ExperimentExtensions extensions = losmimo::fusion::experiment_extensions();
-  if (merge->parsed()) return lp::merge_experiment_app(merge_dirs, merge_out, extensions, std::cout, std::cerr);
+  const losmimo::experiment::ExperimentExtensions extensions = losmimo::coevaluation::experiment_extensions();
+  if (merge->parsed()) return losmimo::apps::merge_experiment_app(merge_dirs, merge_out, extensions, std::cout, std::cerr);
 
 #ifdef LOSMIMO_WITH_MPI
   if (launched_by_mpirun()) {
     MPI_Init(&argc, &argv);
-    lp::ExperimentCollective collective;
+    losmimo::apps::ExperimentCollective collective;
     MPI_Comm_rank(MPI_COMM_WORLD, &collective.rank);
     MPI_Comm_size(MPI_COMM_WORLD, &collective.size);
     collective.gather = [&](const std::string& mine) { return mpi_gather(mine, collective.rank, collective.size); };
     options.collective = &collective;
-    const int code = lp::run_experiment_app(options, extensions, std::cout, std::cerr);
+    const int code = losmimo::apps::run_experiment_app(options, extensions, std::cout, std::cerr);
     // Every rank returns the same code for bad input; rank 0 reports a failure of any rank.
     int worst = code;
     MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
@@ -93,5 +92,5 @@ int main(int argc, char** argv) {
     return collective.rank == 0 ? worst : code;
   }
 #endif
-  return lp::run_experiment_app(options, extensions, std::cout, std::cerr);
+  return losmimo::apps::run_experiment_app(options, extensions, std::cout, std::cerr);
 }

@@ -4,10 +4,10 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "losmimo/fusion/rawlog_recorder.h"
+#include "losmimo/apps/record_app.h"
 
 int main(int argc, char** argv) {
-  losmimo::fusion::RecordAppOptions options;
+  losmimo::apps::RecordAppOptions options;
   CLI::App app{"Record one closed-loop losmimo mission as an MRPT rawlog"};
   app.add_option("--config", options.config_path, "mission INI (default: built-in defaults)");
   app.add_option("--set", options.overrides, "override a key: section.key=value (repeatable)");
@@ -17,5 +17,5 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-  return losmimo::fusion::run_record_app(options, std::cout, std::cerr);
+  return losmimo::apps::run_record_app(options, std::cout, std::cerr);
 }

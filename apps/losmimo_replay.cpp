@@ -7,10 +7,10 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "losmimo/fusion/rawlog_replay.h"
+#include "losmimo/apps/replay_app.h"
 
 int main(int argc, char** argv) {
-  losmimo::fusion::ReplayAppOptions options;
+  losmimo::apps::ReplayAppOptions options;
   CLI::App app{"Replay a rawlog through an estimator and evaluate the placement along it"};
   app.add_option("rawlog", options.rawlog_path, "input rawlog (gzip or plain)")->required();
   app.add_option("--estimator", options.estimator, "ekf or pf (default: as recorded)");
@@ -33,5 +33,5 @@ int main(int argc, char** argv) {
     setrlimit(RLIMIT_AS, &limit);
   }
 #endif
-  return losmimo::fusion::run_replay_app(options, std::cout, std::cerr);
+  return losmimo::apps::run_replay_app(options, std::cout, std::cerr);
 }

@@ -1,3 +1,4 @@
+#include "losmimo/common/input_error.h"
 #include "losmimo/placement/positions_csv.h"
 
 #include <cmath>
@@ -45,24 +46,24 @@ Eigen::Matrix3Xd parse_positions_csv(std::istream& in, const std::string& origin
     }
     seen_data = true;
     if (fields.size() != 3) {
-      throw InputError(where + ": expected 3 fields x,y,z, got " + std::to_string(fields.size()));
+      throw common::InputError(where + ": expected 3 fields x,y,z, got " + std::to_string(fields.size()));
     }
     if (static_cast<int>(rows.size()) >= max_rows) {
-      throw InputError(where + ": more than " + std::to_string(max_rows) + " positions");
+      throw common::InputError(where + ": more than " + std::to_string(max_rows) + " positions");
     }
     Eigen::Vector3d q;
     for (int i = 0; i < 3; ++i) {
       const std::string field_where = where + ": field " + kFieldNames[i];
-      q(i) = parse_double(fields[i], field_where);
+      q(i) = common::parse_double(fields[i], field_where);
       // Beyond this, distances overflow (|q| ~ 1e154 m) or phases lose all precision.
       if (!(std::abs(q(i)) <= kMaxAbsCoordinate_m)) {
-        throw InputError(field_where + ": " + strip(fields[i]) + " is out of range [-1e9, 1e9] m");
+        throw common::InputError(field_where + ": " + strip(fields[i]) + " is out of range [-1e9, 1e9] m");
       }
     }
     rows.push_back(q);
   }
-  if (in.bad()) throw InputError(origin + ": read error");
-  if (rows.empty()) throw InputError(origin + ": no positions");
+  if (in.bad()) throw common::InputError(origin + ": read error");
+  if (rows.empty()) throw common::InputError(origin + ": no positions");
   Eigen::Matrix3Xd q(3, rows.size());
   for (std::size_t n = 0; n < rows.size(); ++n) q.col(n) = rows[n];
   return q;
@@ -70,7 +71,7 @@ Eigen::Matrix3Xd parse_positions_csv(std::istream& in, const std::string& origin
 
 Eigen::Matrix3Xd read_positions_csv(const std::string& path, int max_rows) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open positions file");
+  if (!in) throw common::InputError(path + ": cannot open positions file");
   return parse_positions_csv(in, path, max_rows);
 }
 

@@ -1,3 +1,5 @@
+#include "losmimo/common/format.h"
+#include "losmimo/common/ini_config.h"
 #include "losmimo/placement/settings.h"
 
 #include <iomanip>
@@ -23,9 +25,9 @@ std::map<std::string, std::set<std::string>> placement_config_keys() {
 namespace {
 constexpr long long kIntMax = std::numeric_limits<int>::max();
 
-// Runs a validator and re-throws its message as an InputError located in the config.
+// Runs a validator and re-throws its message as an common::InputError located in the config.
 template <typename Validate>
-void check(const IniConfig& cfg, const std::string& section, Validate&& validate_fn) {
+void check(const common::IniConfig& cfg, const std::string& section, Validate&& validate_fn) {
   try {
     validate_fn();
   } catch (const std::invalid_argument& e) {
@@ -35,14 +37,14 @@ void check(const IniConfig& cfg, const std::string& section, Validate&& validate
     const std::size_t end = msg.find_first_of(" =", dot);
     if (dot != std::string::npos && end != std::string::npos && msg.compare(0, dot, section) == 0) {
       const std::string key = msg.substr(dot + 1, end - dot - 1);
-      if (cfg.has(section, key)) throw InputError(cfg.where(section, key) + ": " + msg);
+      if (cfg.has(section, key)) throw common::InputError(cfg.where(section, key) + ": " + msg);
     }
-    throw InputError("config: " + msg);
+    throw common::InputError("config: " + msg);
   }
 }
 }  // namespace
 
-PlacementSettings load_placement_settings(const IniConfig& cfg) {
+PlacementSettings load_placement_settings(const common::IniConfig& cfg) {
   PlacementSettings s;
   Scenario& sc = s.scenario;
   sc.bs_rows = static_cast<int>(cfg.get_integer("scenario", "bs_rows", sc.bs_rows, 1, 64));
@@ -59,7 +61,7 @@ PlacementSettings load_placement_settings(const IniConfig& cfg) {
     try {
       sc.gain_model = gain_model_from_string(cfg.get_string("scenario", "gain_model", ""));
     } catch (const std::invalid_argument& e) {
-      throw InputError(cfg.where("scenario", "gain_model") + ": " + e.what());
+      throw common::InputError(cfg.where("scenario", "gain_model") + ": " + e.what());
     }
   }
   check(cfg, "scenario", [&] { validate(sc); });
@@ -107,29 +109,29 @@ std::string to_ini(const PlacementSettings& s) {
   const Scenario& sc = s.scenario;
   o << "[scenario]\n"
     << "bs_rows = " << sc.bs_rows << "\nbs_cols = " << sc.bs_cols
-    << "\nbs_spacing_m = " << format_double(sc.bs_spacing_m) << "\ncarrier_hz = " << format_double(sc.carrier_hz)
-    << "\nnum_uavs = " << sc.num_uavs << "\ncube_side_m = " << format_double(sc.cube_side_m)
-    << "\ncube_center_x_m = " << format_double(sc.cube_center_m.x()) << "\ncube_center_y_m = " << format_double(sc.cube_center_m.y())
-    << "\ncube_center_z_m = " << format_double(sc.cube_center_m.z()) << "\nsnr_db = " << format_double(sc.snr_db)
+    << "\nbs_spacing_m = " << common::format_double(sc.bs_spacing_m) << "\ncarrier_hz = " << common::format_double(sc.carrier_hz)
+    << "\nnum_uavs = " << sc.num_uavs << "\ncube_side_m = " << common::format_double(sc.cube_side_m)
+    << "\ncube_center_x_m = " << common::format_double(sc.cube_center_m.x()) << "\ncube_center_y_m = " << common::format_double(sc.cube_center_m.y())
+    << "\ncube_center_z_m = " << common::format_double(sc.cube_center_m.z()) << "\nsnr_db = " << common::format_double(sc.snr_db)
     << "\ngain_model = " << to_string(sc.gain_model) << "\n\n";
-  o << "[errors]\nsigma_loc_m = " << format_double(s.errors.sigma_loc_m) << "\nsigma_act_m = " << format_double(s.errors.sigma_act_m)
+  o << "[errors]\nsigma_loc_m = " << common::format_double(s.errors.sigma_loc_m) << "\nsigma_act_m = " << common::format_double(s.errors.sigma_act_m)
     << "\n\n";
-  o << "[placement]\ntarget_icn = " << format_double(s.run.target_icn) << "\nmax_iterations = " << s.run.max_iterations
+  o << "[placement]\ntarget_icn = " << common::format_double(s.run.target_icn) << "\nmax_iterations = " << s.run.max_iterations
     << "\n\n";
   const auto b = [](bool v) { return v ? "true" : "false"; };
-  o << "[gd]\nstep = " << format_double(s.gd.step) << "\ndecay = " << format_double(s.gd.decay) << "\nmax_move_m = " << format_double(s.gd.max_move_m)
+  o << "[gd]\nstep = " << common::format_double(s.gd.step) << "\ndecay = " << common::format_double(s.gd.decay) << "\nmax_move_m = " << common::format_double(s.gd.max_move_m)
     << "\nbacktracking = " << b(s.gd.backtracking) << "\nmax_halvings = " << s.gd.max_halvings
     << "\nescape = " << b(s.gd.escape) << "\nstall_window = " << s.gd.stall_window
-    << "\nstall_min_decrease = " << format_double(s.gd.stall_min_decrease) << "\n";
+    << "\nstall_min_decrease = " << common::format_double(s.gd.stall_min_decrease) << "\n";
   // The large-swarm keys only when set, so that the defaults' text (paper.ini) is unchanged.
   const GdOptions gd_defaults;
   if (s.gd.escape_half_grid != gd_defaults.escape_half_grid) o << "escape_half_grid = " << s.gd.escape_half_grid << "\n";
   if (s.gd.escape_uavs != gd_defaults.escape_uavs) o << "escape_uavs = " << s.gd.escape_uavs << "\n";
-  if (s.gd.depth_step_gain != gd_defaults.depth_step_gain) o << "depth_step_gain = " << format_double(s.gd.depth_step_gain) << "\n";
+  if (s.gd.depth_step_gain != gd_defaults.depth_step_gain) o << "depth_step_gain = " << common::format_double(s.gd.depth_step_gain) << "\n";
   o << "\n";
-  o << "[bf]\nstep = " << format_double(s.bf.step) << "\ndecay = " << format_double(s.bf.decay) << "\ncontraction = " << format_double(s.bf.contraction)
-    << "\nmin_step_m = " << format_double(s.bf.min_step_m) << "\nescape = " << b(s.bf.escape)
-    << "\nstall_window = " << s.bf.stall_window << "\nstall_min_decrease = " << format_double(s.bf.stall_min_decrease)
+  o << "[bf]\nstep = " << common::format_double(s.bf.step) << "\ndecay = " << common::format_double(s.bf.decay) << "\ncontraction = " << common::format_double(s.bf.contraction)
+    << "\nmin_step_m = " << common::format_double(s.bf.min_step_m) << "\nescape = " << b(s.bf.escape)
+    << "\nstall_window = " << s.bf.stall_window << "\nstall_min_decrease = " << common::format_double(s.bf.stall_min_decrease)
     << "\n";
   return o.str();
 }

@@ -13,8 +13,8 @@
 namespace {
 
 using losmimo::fusion::RefinementConfig;
-using losmimo::fusion::test_support::draw_window;
-using losmimo::fusion::test_support::DrawnWindow;
+using losmimo::test_support::draw_window;
+using losmimo::test_support::DrawnWindow;
 
 constexpr int kNumWindows = 64;
 

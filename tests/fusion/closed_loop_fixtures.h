@@ -11,7 +11,7 @@
 
 #include "losmimo/fusion/closed_loop.h"
 
-namespace losmimo::fusion::testing {
+namespace losmimo::test_support {
 
 inline constexpr double kSigmaAct_m = 0.02;  // actuation error of every closed-loop test
 
@@ -29,8 +29,8 @@ inline Eigen::Matrix3Xd start_positions(const placement::Scenario& scenario, std
 }
 
 // The default beacon, dead reckoning and filter noise, the filter matched to the truth.
-inline ClosedLoopConfig nominal_config(const placement::Scenario& scenario) {
-  return matched_closed_loop_config(localization::SimulatorConfig{}, scenario);
+inline fusion::ClosedLoopConfig nominal_config(const placement::Scenario& scenario) {
+  return fusion::matched_closed_loop_config(localization::SimulatorConfig{}, scenario);
 }
 
 inline bool contains(const std::string& text, const std::string& part) {
@@ -38,13 +38,13 @@ inline bool contains(const std::string& text, const std::string& part) {
 }
 
 // Keeps what the observer sees: every epoch, and the true positions after every iteration.
-struct LoopRecorder : ClosedLoopObserver {
-  std::vector<EpochObservation> epochs;
+struct LoopRecorder : fusion::ClosedLoopObserver {
+  std::vector<fusion::EpochObservation> epochs;
   std::map<int, Eigen::Matrix3Xd> positions_after;  // iteration -> true positions
-  void on_epoch(const EpochObservation& e) override { epochs.push_back(e); }
+  void on_epoch(const fusion::EpochObservation& e) override { epochs.push_back(e); }
   void on_iteration_end(int iteration, const placement::Swarm& swarm) override {
     positions_after[iteration] = swarm.true_positions_m();
   }
 };
 
-}  // namespace losmimo::fusion::testing
+}  // namespace losmimo::test_support

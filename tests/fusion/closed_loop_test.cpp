@@ -12,14 +12,14 @@
 #include <thread>
 
 #include "losmimo/fusion/closed_loop.h"
-#include "closed_loop_fixtures.h"
+#include "fusion/closed_loop_fixtures.h"
 
 namespace losmimo::fusion {
 namespace {
 
-using testing::nominal_config;
-using testing::paper_settings;
-using testing::start_positions;
+using test_support::nominal_config;
+using test_support::paper_settings;
+using test_support::start_positions;
 
 constexpr int kMaxIterations = 600;
 

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-namespace losmimo::fusion::test_support {
+namespace losmimo::test_support {
 
 inline constexpr double kRelativeStep = 1e-6;
 inline constexpr double kJacobianTol = 1e-6;
@@ -68,4 +68,4 @@ inline bool probe(const ceres::CostFunction& cost, const std::vector<double*>& b
   return ok;
 }
 
-}  // namespace losmimo::fusion::test_support
+}  // namespace losmimo::test_support

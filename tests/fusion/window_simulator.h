@@ -16,18 +16,18 @@
 
 #include "losmimo/fusion/refinement.h"
 
-namespace losmimo::fusion::test_support {
+namespace losmimo::test_support {
 
 // Prior of the oldest epoch: a filter that has fused the beacon for a while [m].
 inline const Eigen::Vector3d kPriorSigma_m(0.20, 0.15, 0.15);
 
 struct DrawnWindow {
-  std::vector<RefinementEpoch> epochs;
+  std::vector<fusion::RefinementEpoch> epochs;
   Eigen::Matrix3Xd truth_m;
 };
 
 // num_epochs epochs as described above; truth_m holds the true positions (3 x num_epochs).
-inline DrawnWindow draw_window(const placement::ChannelModel& model, const RefinementConfig& config,
+inline DrawnWindow draw_window(const placement::ChannelModel& model, const fusion::RefinementConfig& config,
                                int num_epochs, std::mt19937_64& rng, double noise_scale = 1.0) {
   std::normal_distribution<double> n01;
   std::uniform_real_distribution<double> cube(-25.0, 25.0);
@@ -42,7 +42,7 @@ inline DrawnWindow draw_window(const placement::ChannelModel& model, const Refin
   const Eigen::Matrix3d prior_cov = kPriorSigma_m.cwiseAbs2().asDiagonal();
   for (int i = 0; i < num_epochs; ++i) {
     const Eigen::Vector3d q = w.truth_m.col(i);
-    RefinementEpoch e;
+    fusion::RefinementEpoch e;
     e.filter_belief.cov_m2 = prior_cov;
     e.filter_belief.mean_m =
         q + noise_scale * kPriorSigma_m.cwiseProduct(Eigen::Vector3d(n01(rng), n01(rng), n01(rng)));
@@ -58,10 +58,10 @@ inline DrawnWindow draw_window(const placement::ChannelModel& model, const Refin
     z.elevation_rad = std::atan2(q.z(), q.head<2>().norm()) +
                       noise_scale * config.beacon_sigma_angle_rad * n01(rng);
     e.beacon = z;
-    e.csi.push_back(simulate_csi(model, q, noise_scale * noise_scale * config.csi_noise_variance, rng));
+    e.csi.push_back(fusion::simulate_csi(model, q, noise_scale * noise_scale * config.csi_noise_variance, rng));
     w.epochs.push_back(e);
   }
   return w;
 }
 
-}  // namespace losmimo::fusion::test_support
+}  // namespace losmimo::test_support

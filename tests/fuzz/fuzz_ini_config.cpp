@@ -15,8 +15,8 @@
 #include <string>
 
 #include "losmimo/placement/channel.h"
-#include "losmimo/placement/experiment_extension.h"
-#include "losmimo/placement/ini_config.h"
+#include "losmimo/experiment/extension.h"
+#include "losmimo/common/ini_config.h"
 
 namespace lp = losmimo::placement;
 
@@ -33,20 +33,20 @@ void check_usable(const lp::Scenario& sc) {
   require(model.row(sc.cube_center_m).allFinite());
 }
 
-void load_all(const lp::IniConfig& cfg) {
+void load_all(const losmimo::common::IniConfig& cfg) {
   try {
     const lp::PlacementSettings p = lp::load_placement_settings(cfg);
     check_usable(p.scenario);
-  } catch (const lp::InputError&) {
+  } catch (const losmimo::common::InputError&) {
   }
   try {
-    const lp::ExperimentSettings s = lp::load_experiment_settings(cfg);
+    const losmimo::experiment::ExperimentSettings s = losmimo::experiment::load_experiment_settings(cfg);
     check_usable(s.placement.scenario);
     const std::string ini = lp::to_ini(s);
-    const lp::ExperimentSettings again =
-        lp::load_experiment_settings(lp::IniConfig::from_string(ini, "<to_ini>"));
+    const losmimo::experiment::ExperimentSettings again =
+        losmimo::experiment::load_experiment_settings(losmimo::common::IniConfig::from_string(ini, "<to_ini>"));
     require(lp::to_ini(again) == ini);
-  } catch (const lp::InputError&) {
+  } catch (const losmimo::common::InputError&) {
   }
 }
 }  // namespace
@@ -54,20 +54,20 @@ void load_all(const lp::IniConfig& cfg) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
-    const lp::IniConfig cfg = lp::IniConfig::from_string(text, "<fuzz>");
+    const losmimo::common::IniConfig cfg = losmimo::common::IniConfig::from_string(text, "<fuzz>");
     (void)cfg.to_string();
     try {
       cfg.require_known(lp::placement_config_keys());
-    } catch (const lp::InputError&) {
+    } catch (const losmimo::common::InputError&) {
     }
     load_all(cfg);
-  } catch (const lp::InputError&) {
+  } catch (const losmimo::common::InputError&) {
   }
   try {
-    lp::IniConfig cfg;
+    losmimo::common::IniConfig cfg;
     cfg.set_override(text.substr(0, text.find('\n')));
     load_all(cfg);
-  } catch (const lp::InputError&) {
+  } catch (const losmimo::common::InputError&) {
   }
   return 0;
 }

@@ -19,7 +19,8 @@
 #include <sstream>
 #include <string>
 
-#include "losmimo/placement/eval.h"
+#include "losmimo/apps/eval_app.h"
+#include "losmimo/common/input_error.h"
 #include "losmimo/placement/positions_csv.h"
 
 namespace lp = losmimo::placement;
@@ -45,19 +46,19 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const Eigen::Matrix3Xd q = lp::parse_positions_csv(in, "<fuzz>", kMaxRows);
     require(q.cols() >= 1 && q.cols() <= kMaxRows && q.allFinite());
     parsed = true;
-  } catch (const lp::InputError&) {
+  } catch (const losmimo::common::InputError&) {
   }
 
   {
     std::ofstream f(scratch_path(), std::ios::binary | std::ios::trunc);
     f.write(text.data(), static_cast<std::streamsize>(text.size()));
   }
-  lp::EvalOptions options;
+  losmimo::apps::EvalOptions options;
   options.positions_path = scratch_path();
   options.overrides = {"scenario.bs_rows=2", "scenario.bs_cols=2"};
   options.csv = true;
   std::ostringstream out, err;
-  const int rc = lp::run_eval(options, out, err);
+  const int rc = losmimo::apps::run_eval_app(options, out, err);
   require(rc == 0 || rc == 2);
   if (rc == 2) {
     require(err.str().rfind("losmimo-eval: " + scratch_path(), 0) == 0);

@@ -15,9 +15,9 @@
 #include <cstdint>
 #include <string>
 
-#include "losmimo/fusion/rawlog_log.h"
-#include "losmimo/fusion/rawlog_reader.h"
-#include "losmimo/placement/input_error.h"
+#include "losmimo/rawlog/log.h"
+#include "losmimo/rawlog/reader.h"
+#include "losmimo/common/input_error.h"
 
 namespace lf = losmimo::fusion;
 
@@ -46,7 +46,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const lf::MissionLog log = lf::load_mission_log(reader);
     require(log.read_status.stop != lf::RawlogStop::kNone);
     (void)log.stop_description();
-  } catch (const losmimo::placement::InputError&) {
+  } catch (const losmimo::common::InputError&) {
   }
   return 0;
 }

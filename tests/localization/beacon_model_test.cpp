@@ -9,13 +9,13 @@
 
 #include "losmimo/localization/beacon_model.h"
 #include "losmimo/localization/sensor_simulator.h"
-#include "numdiff.h"
+#include "support/numdiff.h"
 
 namespace losmimo::localization {
 namespace {
 
-using testing::jacobian_mismatch;
-using testing::numeric_jacobian;
+using test_support::jacobian_mismatch;
+using test_support::numeric_jacobian;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kJacobianTolerance = 1e-6;  // relative, central differences at h ~ 1e-6 |x|

@@ -7,16 +7,16 @@
 #include <cmath>
 #include <iostream>
 
-#include "trial_runner.h"
+#include "localization/trial_runner.h"
 
 namespace losmimo::localization {
 namespace {
 
-using testing::fraction_of_epochs_in_nees_band;
-using testing::rmse_m;
-using testing::run_trials;
-using testing::TrialResult;
-using testing::TrialSpec;
+using test_support::fraction_of_epochs_in_nees_band;
+using test_support::rmse_m;
+using test_support::run_trials;
+using test_support::TrialResult;
+using test_support::TrialSpec;
 
 constexpr int kNumTrials = 50;
 constexpr double kMinFractionInBand = 0.90;
@@ -87,8 +87,8 @@ TEST(NeesBand, WilsonHilferty_MatchesChiSquareTable) {
   constexpr double kZ975 = 1.959963985;
   constexpr double kChi2_100_025 = 74.222;
   constexpr double kChi2_100_975 = 129.561;
-  EXPECT_NEAR(testing::chi2_quantile(100.0, -kZ975), kChi2_100_025, 0.1);
-  EXPECT_NEAR(testing::chi2_quantile(100.0, kZ975), kChi2_100_975, 0.1);
+  EXPECT_NEAR(test_support::chi2_quantile(100.0, -kZ975), kChi2_100_025, 0.1);
+  EXPECT_NEAR(test_support::chi2_quantile(100.0, kZ975), kChi2_100_975, 0.1);
 }
 
 // Accuracy on the nominal trial, after the first kSettleEpochs (both start from the same prior).

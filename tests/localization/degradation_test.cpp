@@ -5,15 +5,15 @@
 
 #include <iostream>
 
-#include "trial_runner.h"
+#include "localization/trial_runner.h"
 
 namespace losmimo::localization {
 namespace {
 
-using testing::rmse_m;
-using testing::run_trial;
-using testing::run_trials;
-using testing::TrialSpec;
+using test_support::rmse_m;
+using test_support::run_trial;
+using test_support::run_trials;
+using test_support::TrialSpec;
 
 constexpr int kNumTrials = 20;
 constexpr int kSettleEpochs = 10;

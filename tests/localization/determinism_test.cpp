@@ -11,14 +11,14 @@
 #include <thread>
 #include <vector>
 
-#include "trial_runner.h"
+#include "localization/trial_runner.h"
 
 namespace losmimo::localization {
 namespace {
 
-using testing::run_trial;
-using testing::TrialResult;
-using testing::TrialSpec;
+using test_support::run_trial;
+using test_support::TrialResult;
+using test_support::TrialSpec;
 
 constexpr int kTrialsPerThread = 3;
 

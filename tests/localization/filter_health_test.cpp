@@ -12,7 +12,7 @@
 #include <string>
 
 #include "losmimo/localization/filter.h"
-#include "trial_runner.h"
+#include "localization/trial_runner.h"
 
 namespace losmimo::localization {
 namespace {
@@ -142,10 +142,10 @@ TEST_P(FilterHealth, AbsurdRange_IsRejectedBeforeTheResetRule_WithTheDefaultLimi
 // `withhold` withholds those beacons instead.
 constexpr std::uint64_t kTrialSeed = 4;
 
-testing::TrialSpec trial_with_replaced_beacons(bool withhold, double max_beacon_range_m) {
+test_support::TrialSpec trial_with_replaced_beacons(bool withhold, double max_beacon_range_m) {
   constexpr int kBlockFirstEpoch[] = {8, 28, 49, 69};
   constexpr int kBlockLength[] = {12, 13, 12, 13};
-  testing::TrialSpec spec;
+  test_support::TrialSpec spec;
   spec.filter.num_particles = 500;
   spec.filter.max_beacon_range_m = max_beacon_range_m;
   const double above_limit_m = std::nextafter(FilterConfig{}.max_beacon_range_m, kInf);
@@ -163,10 +163,10 @@ TEST_P(FilterHealth, FiftyImplausibleBeacons_RejectedCounted_BeliefAsIfTheyWereA
   constexpr int kNumReplaced = 50;
   const double limit_m = FilterConfig{}.max_beacon_range_m;
   // GIVEN / WHEN: the same trial with the implausible beacons, and with them withheld.
-  const testing::TrialResult with =
-      testing::run_trial(GetParam(), trial_with_replaced_beacons(false, limit_m), kTrialSeed);
-  const testing::TrialResult without =
-      testing::run_trial(GetParam(), trial_with_replaced_beacons(true, limit_m), kTrialSeed);
+  const test_support::TrialResult with =
+      test_support::run_trial(GetParam(), trial_with_replaced_beacons(false, limit_m), kTrialSeed);
+  const test_support::TrialResult without =
+      test_support::run_trial(GetParam(), trial_with_replaced_beacons(true, limit_m), kTrialSeed);
   // THEN: every one was rejected as out of range, and nothing else changed.
   EXPECT_EQ(with.counters.rejected_out_of_range_beacon, kNumReplaced);
   EXPECT_EQ(without.counters.rejected_out_of_range_beacon, 0);
@@ -199,7 +199,7 @@ TEST_P(FilterHealth, FiftyImplausibleBeacons_RejectedCounted_BeliefAsIfTheyWereA
 TEST_P(FilterHealth, FiftyImplausibleBeacons_WithoutTheScreen_BreakTheFilter) {
   // The control of the test above: with the limit opened up, the same beacons are gated until
   // the reset rule takes a fix at 1e300 m, which overflows.
-  const testing::TrialResult open = testing::run_trial(
+  const test_support::TrialResult open = test_support::run_trial(
       GetParam(), trial_with_replaced_beacons(false, std::numeric_limits<double>::max()),
       kTrialSeed);
   EXPECT_EQ(open.counters.rejected_out_of_range_beacon, 0);

@@ -1,6 +1,6 @@
 #pragma once
 // A seeded single-UAV trial shared by the localization tests: a UAV near (1 km, 0, 0) flies a
-// smooth commanded path, SensorSimulator produces dead reckoning and beacons, and a filter,
+// smooth commanded path, localization::SensorSimulator produces dead reckoning and beacons, and a filter,
 // dead reckoning alone and the beacon-only fix are scored against the truth at every epoch.
 //
 // Path: c_k = step_m * (cos(0.1 k), sin(0.1 k), 0.3 sin(0.05 k)), true d_k = actuate(c_k).
@@ -22,24 +22,24 @@
 #include "losmimo/localization/filter.h"
 #include "losmimo/localization/sensor_simulator.h"
 
-namespace losmimo::localization::testing {
+namespace losmimo::test_support {
 
 struct TrialSpec {
   int num_epochs = 100;
   double step_m = 1.0;
   double initial_sigma_m = 0.2;
   Eigen::Vector3d start_m{1000.0, 5.0, 20.0};
-  SimulatorConfig sim = [] {
-    SimulatorConfig c;
+  localization::SimulatorConfig sim = [] {
+    localization::SimulatorConfig c;
     c.sigma_act_m = 0.05;
     return c;
   }();
-  FilterConfig filter;
+  localization::FilterConfig filter;
   std::set<int> nan_beacon_epochs;        // these beacons are replaced by NaN
   std::set<int> inf_displacement_epochs;  // these displacements are replaced by +Inf
   // These beacons are replaced by the given measurement, or withheld (nullopt). The simulator
   // still draws them, so every other reading is the same as without the replacement.
-  std::map<int, std::optional<BeaconMeasurement>> replaced_beacons;
+  std::map<int, std::optional<localization::BeaconMeasurement>> replaced_beacons;
   // Overrides the initial belief's mean offset (else drawn from N(0, sigma_0^2 I)).
   std::optional<Eigen::Vector3d> initial_offset_m;
 };
@@ -52,22 +52,22 @@ struct TrialResult {
   std::vector<bool> degraded;
   std::vector<Eigen::Vector3d> dr_error_m;              // dead reckoning alone
   std::vector<std::optional<Eigen::Vector3d>> fix_error_m;  // beacon-only fix, if a beacon
-  FilterCounters counters;
+  localization::FilterCounters counters;
   int num_outliers = 0;
 };
 
-inline TrialResult run_trial(FilterKind kind, const TrialSpec& spec, std::uint64_t seed) {
-  SensorSimulator sim(spec.sim, 2 * seed + 1);
+inline TrialResult run_trial(localization::FilterKind kind, const TrialSpec& spec, std::uint64_t seed) {
+  localization::SensorSimulator sim(spec.sim, 2 * seed + 1);
   std::mt19937_64 init_rng(2 * seed + 1);
   std::normal_distribution<double> normal(0.0, 1.0);
   Eigen::Vector3d offset_m;
   for (int a = 0; a < 3; ++a) offset_m(a) = spec.initial_sigma_m * normal(init_rng);
   if (spec.initial_offset_m) offset_m = *spec.initial_offset_m;
 
-  Belief initial;
+  localization::Belief initial;
   initial.mean_m = spec.start_m + offset_m;
   initial.cov_m2 = spec.initial_sigma_m * spec.initial_sigma_m * Eigen::Matrix3d::Identity();
-  auto filter = make_filter(kind, spec.filter, initial, 2 * seed + 2);
+  auto filter = localization::make_filter(kind, spec.filter, initial, 2 * seed + 2);
 
   TrialResult out;
   Eigen::Vector3d q_m = spec.start_m;
@@ -79,11 +79,11 @@ inline TrialResult run_trial(FilterKind kind, const TrialSpec& spec, std::uint64
     const Eigen::Vector3d d_m = sim.actuate(commanded_m);
     q_m += d_m;
     Eigen::Vector3d d_meas_m = sim.measure_displacement(d_m);
-    std::optional<BeaconMeasurement> beacon = sim.measure_beacon(q_m, k);
+    std::optional<localization::BeaconMeasurement> beacon = sim.measure_beacon(q_m, k);
     dr_m += d_meas_m;
     if (beacon) {
       out.fix_error_m.emplace_back(
-          beacon_fix(*beacon, spec.sim.sigma_range_m, spec.sim.sigma_angle_rad).mean_m - q_m);
+          localization::beacon_fix(*beacon, spec.sim.sigma_range_m, spec.sim.sigma_angle_rad).mean_m - q_m);
     } else {
       out.fix_error_m.emplace_back(std::nullopt);
     }
@@ -97,7 +97,7 @@ inline TrialResult run_trial(FilterKind kind, const TrialSpec& spec, std::uint64
       d_meas_m.x() = std::numeric_limits<double>::infinity();
     }
     filter->step(d_meas_m, beacon);
-    const Belief b = filter->belief();
+    const localization::Belief b = filter->belief();
     const Eigen::Vector3d e = b.mean_m - q_m;
     out.mean_m.push_back(b.mean_m);
     out.error_m.push_back(e);
@@ -111,7 +111,7 @@ inline TrialResult run_trial(FilterKind kind, const TrialSpec& spec, std::uint64
   return out;
 }
 
-inline std::vector<TrialResult> run_trials(FilterKind kind, const TrialSpec& spec,
+inline std::vector<TrialResult> run_trials(localization::FilterKind kind, const TrialSpec& spec,
                                            int num_trials, std::uint64_t first_seed = 1) {
   std::vector<TrialResult> results;
   results.reserve(static_cast<std::size_t>(num_trials));
@@ -159,4 +159,4 @@ inline double fraction_of_epochs_in_nees_band(const std::vector<TrialResult>& tr
   return static_cast<double>(inside) / static_cast<double>(epochs);
 }
 
-}  // namespace losmimo::localization::testing
+}  // namespace losmimo::test_support

@@ -7,8 +7,9 @@
 #include <cmath>
 #include <random>
 
+#include "losmimo/common/ini_config.h"
 #include "losmimo/placement/gd.h"
-#include "losmimo/placement/input_error.h"
+#include "losmimo/common/input_error.h"
 #include "losmimo/placement/metrics.h"
 #include "losmimo/placement/settings.h"
 #include "losmimo/placement/ura.h"
@@ -106,35 +107,35 @@ TEST(GdOptions, EscapeOptions_OutOfRange_AreRejectedNamingTheField) {
 
 TEST(Settings, EscapeKeys_AreReadValidatedAndWrittenOnlyWhenSet) {
   // Defaults: the INI text has no new keys (datasets/configs/paper.ini stays as it is).
-  const std::string defaults = lp::to_ini(lp::load_placement_settings(lp::IniConfig()));
+  const std::string defaults = lp::to_ini(lp::load_placement_settings(losmimo::common::IniConfig()));
   EXPECT_EQ(defaults.find("escape_half_grid"), std::string::npos);
   EXPECT_EQ(defaults.find("escape_uavs"), std::string::npos);
   EXPECT_EQ(defaults.find("depth_step_gain"), std::string::npos);
 
   const lp::PlacementSettings set = lp::load_placement_settings(
-      lp::IniConfig::from_string("[gd]\nescape_half_grid = 8\nescape_uavs = 32\ndepth_step_gain = 100\n", "big.ini"));
+      losmimo::common::IniConfig::from_string("[gd]\nescape_half_grid = 8\nescape_uavs = 32\ndepth_step_gain = 100\n", "big.ini"));
   EXPECT_EQ(set.gd.escape_half_grid, 8);
   EXPECT_EQ(set.gd.escape_uavs, 32);
   EXPECT_EQ(set.gd.depth_step_gain, 100.0);
   const std::string text = lp::to_ini(set);
-  const lp::PlacementSettings again = lp::load_placement_settings(lp::IniConfig::from_string(text, "again"));
+  const lp::PlacementSettings again = lp::load_placement_settings(losmimo::common::IniConfig::from_string(text, "again"));
   EXPECT_EQ(again.gd.escape_half_grid, 8);
   EXPECT_EQ(again.gd.escape_uavs, 32);
   EXPECT_EQ(again.gd.depth_step_gain, 100.0);
   EXPECT_EQ(lp::to_ini(again), text);
 
   try {
-    lp::load_placement_settings(lp::IniConfig::from_string("[gd]\nescape_uavs = 0\n", "bad.ini"));
+    lp::load_placement_settings(losmimo::common::IniConfig::from_string("[gd]\nescape_uavs = 0\n", "bad.ini"));
     FAIL() << "escape_uavs = 0 accepted";
-  } catch (const lp::InputError& e) {
+  } catch (const losmimo::common::InputError& e) {
     const std::string msg = e.what();
     EXPECT_NE(msg.find("escape_uavs"), std::string::npos) << msg;
     EXPECT_NE(msg.find('0'), std::string::npos) << msg;
   }
   try {
-    lp::load_placement_settings(lp::IniConfig::from_string("[gd]\ndepth_step_gain = -2\n", "bad.ini"));
+    lp::load_placement_settings(losmimo::common::IniConfig::from_string("[gd]\ndepth_step_gain = -2\n", "bad.ini"));
     FAIL() << "depth_step_gain = -2 accepted";
-  } catch (const lp::InputError& e) {
+  } catch (const losmimo::common::InputError& e) {
     const std::string msg = e.what();
     EXPECT_NE(msg.find("bad.ini"), std::string::npos) << msg;
     EXPECT_NE(msg.find("depth_step_gain = -2"), std::string::npos) << msg;

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "common/numdiff.h"
+#include "support/numdiff.h"
 #include "losmimo/placement/metrics.h"
 #include "losmimo/placement/swarm_channel.h"
 #include "losmimo/placement/ura.h"
@@ -25,7 +25,7 @@ void expect_gradient_matches(const lp::ChannelModel& model, Eigen::Matrix3Xd q, 
     moved.col(m) = qm;
     return lp::objective(model.matrix(moved));
   };
-  const Eigen::Vector3d numeric = losmimo::test::central_gradient<3>(f, q.col(m), kStep_m);
+  const Eigen::Vector3d numeric = losmimo::test_support::central_gradient<3>(f, q.col(m), kStep_m);
   EXPECT_LT((analytic - numeric).norm(), rel_tolerance * numeric.norm() + kGradAbsTolerance)
       << "analytic " << analytic.transpose() << " numeric " << numeric.transpose();
 }
@@ -90,7 +90,7 @@ TEST(UavGradient, WrongSign_IsCaughtByTheCheck) {
     moved.col(0) = qm;
     return lp::objective(model.matrix(moved));
   };
-  const Eigen::Vector3d numeric = losmimo::test::central_gradient<3>(f, q.col(0), kStep_m);
+  const Eigen::Vector3d numeric = losmimo::test_support::central_gradient<3>(f, q.col(0), kStep_m);
   EXPECT_GT(((-g) - numeric).norm() / numeric.norm(), 1.0);
 }
 

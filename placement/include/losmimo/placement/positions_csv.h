@@ -3,13 +3,13 @@
 // An optional header row `x,y,z`, blank lines and `#` comment lines are allowed. Anything else
 // (a missing file, a wrong field count, a non-finite number or one beyond +-1e9 m, more than
 // max_rows rows, no rows)
-// throws InputError naming the file, line and field.
+// throws common::InputError naming the file, line and field.
 
 #include <Eigen/Core>
 #include <iosfwd>
 #include <string>
 
-#include "losmimo/placement/input_error.h"
+#include "losmimo/common/input_error.h"
 
 namespace losmimo::placement {
 

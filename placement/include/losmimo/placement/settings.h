@@ -15,7 +15,7 @@
 
 #include "losmimo/placement/bf.h"
 #include "losmimo/placement/gd.h"
-#include "losmimo/placement/ini_config.h"
+#include "losmimo/common/ini_config.h"
 
 namespace losmimo::placement {
 
@@ -31,9 +31,9 @@ struct PlacementSettings {
 std::map<std::string, std::set<std::string>> placement_config_keys();
 
 // Reads the keys present (others keep their defaults) and validates everything; a bad value
-// throws InputError naming the file, line, key and value. Unknown keys are not checked here:
-// call IniConfig::require_known with the keys of every reader of the file.
-PlacementSettings load_placement_settings(const IniConfig& config);
+// throws common::InputError naming the file, line, key and value. Unknown keys are not checked here:
+// call common::IniConfig::require_known with the keys of every reader of the file.
+PlacementSettings load_placement_settings(const common::IniConfig& config);
 
 // The settings as INI text (what datasets/configs/paper.ini holds).
 std::string to_ini(const PlacementSettings& settings);

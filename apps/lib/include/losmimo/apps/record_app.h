@@ -1,0 +1,23 @@
+#pragma once
+// `losmimo-record`: one closed-loop mission logged as an MRPT rawlog (rawlog/recorder.h).
+// Messages go to `err` prefixed "losmimo-record:", the summary line to `out`.
+//
+// Config file (optional) + overrides -> rawlog. Returns the exit code: 0 ok, 2 bad
+// input (the message names file, line, key and value), 1 runtime error, 3 the run was ended by
+// a fault (placement::RunResult::faulted(): an unresponsive UAV or a numerical fault; the
+// reason goes to `err`, the rawlog is written and closed up to the fault).
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace losmimo::apps {
+
+struct RecordAppOptions {
+  std::string config_path;             // empty: built-in defaults
+  std::vector<std::string> overrides;  // "section.key=value"
+  std::string out_path;
+};
+int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostream& err);
+
+
+}  // namespace losmimo::apps

@@ -1,0 +1,82 @@
+#include "losmimo/apps/eval_app.h"
+
+#include <cmath>
+#include <iomanip>
+#include <ostream>
+
+#include "losmimo/apps/exit_codes.h"
+#include "losmimo/common/ini_config.h"
+#include "losmimo/experiment/extension.h"
+#include "losmimo/placement/channel.h"
+#include "losmimo/placement/metrics.h"
+#include "losmimo/placement/positions_csv.h"
+#include "losmimo/placement/settings.h"
+
+namespace losmimo::apps {
+
+using namespace placement;
+using common::IniConfig;
+using common::InputError;
+
+namespace {
+void print_csv(const LinkMetrics& m, std::ostream& out) {
+  out << std::setprecision(10);
+  out << "stream,sinr_nv_db,sinr_zf_db,sinr_mf_db\n";
+  for (Eigen::Index k = 0; k < m.sinr.nv.size(); ++k) {
+    out << k + 1 << "," << to_db(m.sinr.nv(k)) << "," << to_db(m.sinr.zf(k)) << ","
+        << to_db(m.sinr.mf(k)) << "\n";
+  }
+  out << "icn," << m.icn << "\nobjective," << m.objective << "\nsum_rate_nv_bps_hz,"
+      << m.sum_rate_nv_bps_hz << "\nsum_rate_zf_bps_hz," << m.sum_rate_zf_bps_hz << "\n";
+}
+
+void print_table(const LinkMetrics& m, int nr, std::ostream& out) {
+  out << std::fixed << std::setprecision(2);
+  out << "stream   NV SINR [dB]   ZF SINR [dB]   MF SINR [dB]\n";
+  for (Eigen::Index k = 0; k < m.sinr.nv.size(); ++k) {
+    out << std::setw(6) << k + 1 << std::setw(15) << to_db(m.sinr.nv(k)) << std::setw(15)
+        << to_db(m.sinr.zf(k)) << std::setw(15) << to_db(m.sinr.mf(k)) << "\n";
+  }
+  out << std::setprecision(4) << "ICN                    " << m.icn << "\n"
+      << std::scientific << "objective f            " << m.objective << std::fixed << "\n"
+      << "sum rate NV [bit/s/Hz] " << m.sum_rate_nv_bps_hz << "\n"
+      << "sum rate ZF [bit/s/Hz] " << m.sum_rate_zf_bps_hz << "\n";
+  if (nr < m.sinr.nv.size()) {
+    out << "note: " << nr << " UAVs < " << m.sinr.nv.size()
+        << " BS antennas: the columns cannot be orthogonal (ICN 0) and ZF is undefined (-inf)\n";
+  }
+}
+}  // namespace
+
+int run_eval_app(const EvalOptions& options, std::ostream& out, std::ostream& err) {
+  try {
+    common::IniConfig config =
+        options.config_path.empty() ? common::IniConfig() : common::IniConfig::from_file(options.config_path);
+    for (const std::string& o : options.overrides) config.set_override(o);
+    // An experiment config (e.g. datasets/configs/paper.ini) is a valid scenario source too.
+    config.require_known(experiment::experiment_config_keys());
+    const PlacementSettings settings = load_placement_settings(config);
+    const Eigen::Matrix3Xd q_m = read_positions_csv(options.positions_path);
+    const ChannelModel model(settings.scenario);
+    for (Eigen::Index n = 0; n < q_m.cols(); ++n) {
+      for (Eigen::Index k = 0; k < model.num_antennas(); ++k) {
+        if ((q_m.col(n) - model.antennas_m().col(k)).norm() < 1e-3) {
+          throw common::InputError(options.positions_path + ": UAV " + std::to_string(n + 1) +
+                           " sits on BS antenna " + std::to_string(k + 1));
+        }
+      }
+    }
+    const LinkMetrics m = evaluate_link(model.matrix(q_m), settings.scenario.noise_variance());
+    if (options.csv) {
+      print_csv(m, out);
+    } else {
+      print_table(m, static_cast<int>(q_m.cols()), out);
+    }
+    return kExitOk;
+  } catch (const common::InputError& e) {
+    err << "losmimo-eval: " << e.what() << "\n";
+    return kExitBadInput;
+  }
+}
+
+}  // namespace losmimo::apps

@@ -1,0 +1,148 @@
+#pragma once
+// The co-evaluation of estimators and placement (issue 5): two sweep kinds that fusion adds to
+// `losmimo-experiment` (placement/experiment_extension.h). Both are off unless listed in
+// `[experiment] sweeps`, e.g. `--set experiment.sweeps=beacon_noise_m,beacon_outage`.
+//
+// Sweep `beacon_noise_m`: the value v [m] is the beacon-only cross-range error at the swarm
+//   range R = |cube_center_m|, per lateral axis (1-sigma). The beacon's angle noise is
+//   sigma_angle_rad = v / R (azimuth and elevation); its range noise is [coevaluation]
+//   sigma_range_m whatever v. At every point every algorithm starts from the trial's start
+//   (experiment::trial_start_positions_m) with the point's seed (experiment::trial_seed):
+//   - gd_gauss      the paper's GD under its Gaussian localization model with sigma_loc_m = v
+//                   (placement's Swarm, as the built-in `gd`). Matching: the Gaussian's error
+//                   per lateral axis has the same 1-sigma v as the beacon-only fix, so its
+//                   2-D lateral RMSE sqrt(2) v equals the beacon-only lateral RMSE that the
+//                   closed-loop rows report in beacon_lateral_rmse_m (measured, first order in
+//                   sigma_angle). The Gaussian also errs by v along the range, where the
+//                   beacon errs by sigma_range_m; GD is insensitive to that axis (a common
+//                   phase of the UAV's row).
+//   - gd_ekf, gd_pf, gd_ekf_ceres   the closed loop (closed_loop.h) with the EKF, the particle
+//                   filter, and the EKF with Ceres CSI refinement; BF fallback on.
+//   - gd_ekf_nofallback             gd_ekf with the BF fallback off.
+//   - bf            placement's BF (needs no position).
+//   - ura_ekf       placement's URA ([coevaluation] ura_variant) whose position estimates
+//                   are EKF beliefs: every UAV runs its own sensors and EKF (as the closed loop
+//                   does), one epoch per URA position estimate (the assignment at start, then
+//                   one per iteration), through Swarm::set_position_estimator.
+//   - centralized   the Ceres solution of eq. 4 with perfect knowledge (centralized.h), which
+//                   does not depend on v: solved once per start and reused at every point.
+//                   iterations 0; the UAVs are taken to fly straight to it simultaneously, so
+//                   dist_to_icn050_m / dist_to_icn095_m are the mean distance flown when the
+//                   ICN along that flight (200 steps) first reaches 0.5 / 0.95; converged =
+//                   feasible (status iteration_cap when Ceres found no feasible point).
+//   The filters assume the true sensor noise, floored at FilterConfig's min_sigma_angle_rad
+//   and min_sigma_range_m (1 mm at 1 km): at v = 0 they assume a beacon of 1e-6 rad.
+//
+// Sweep `beacon_outage`: the value k is the number of UAVs that lose the beacon for epochs
+//   outage_first_epoch .. + outage_epochs - 1 (epoch e is localized at iteration e + 1): UAVs
+//   floor(i Nr / k), i = 0 .. k-1 (start positions are random, so indices carry no geometry).
+//   Beacon noise outage_beacon_noise_m; the filter is degraded after
+//   outage_degraded_after_epochs epochs without beacon. Algorithms: gd_ekf (BF fallback) and,
+//   for comparison, gd_ekf_nofallback, gd_pf, gd_ekf_ceres.
+//
+// Extra trials.csv columns (nan where not applicable), the same for both sweeps:
+//   loc_rmse_m            3-D RMSE of the position estimates placement used, over every epoch
+//                         and UAV (gd_gauss: the model's sqrt(3) v, by construction)
+//   loc_lateral_rmse_m    the same across the line of sight, sqrt(e_y^2 + e_z^2) (gd_gauss:
+//                         sqrt(2) v)
+//   nees                  average e^T P^-1 e of those estimates (3 when consistent)
+//   bf_fallback_fraction  UAV-iterations in BF fallback / (Nr x iterations) (closed loop only)
+//   beacon_lateral_rmse_m the beacon-only fixes' lateral RMSE (measured), the matching check
+//
+// [coevaluation] keys (defaults): beacon_noise_values_m (0, 0.02, ..., 0.18), algorithms
+//   (gd_gauss, gd_ekf, gd_pf, gd_ekf_ceres, bf, ura_ekf, centralized), sigma_range_m 0.1,
+//   dr_sigma_floor_m 0.01, dr_sigma_fraction 0.02, pf_particles 1000, refine_window_epochs 5,
+//   refine_use_csi true, ura_variant rigid | lattice, outage_values (0, 2, 4, 8),
+//   outage_algorithms (gd_ekf, gd_ekf_nofallback), outage_first_epoch 10, outage_epochs 30,
+//   outage_degraded_after_epochs 5, outage_beacon_noise_m 0.1.
+// [errors] sigma_act_m applies to every algorithm; [errors] sigma_loc_m to none (the sweep sets
+// gd_gauss's).
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "losmimo/common/input_error.h"
+#include "losmimo/fusion/closed_loop.h"
+#include "losmimo/experiment/extension.h"
+#include "losmimo/placement/ura.h"
+
+namespace losmimo::coevaluation {
+
+inline const std::string kSweepBeaconNoise = "beacon_noise_m";
+inline const std::string kSweepBeaconOutage = "beacon_outage";
+
+enum class CoevalAlgorithm {
+  kGdGauss,
+  kGdEkf,
+  kGdEkfNoFallback,
+  kGdPf,
+  kGdEkfCeres,
+  kBf,
+  kUraEkf,
+  kCentralized,
+};
+std::string to_string(CoevalAlgorithm algorithm);
+
+struct CoevaluationSettings {
+  std::vector<double> beacon_noise_values_m = {0.0,  0.02, 0.04, 0.06, 0.08,
+                                               0.10, 0.12, 0.14, 0.16, 0.18};
+  std::vector<CoevalAlgorithm> algorithms = {
+      CoevalAlgorithm::kGdGauss, CoevalAlgorithm::kGdEkf, CoevalAlgorithm::kGdPf,
+      CoevalAlgorithm::kGdEkfCeres, CoevalAlgorithm::kBf, CoevalAlgorithm::kUraEkf,
+      CoevalAlgorithm::kCentralized};
+  double sigma_range_m = 0.1;       // beacon range 1-sigma, every point
+  double dr_sigma_floor_m = 0.01;   // dead reckoning (sensor_simulator.h)
+  double dr_sigma_fraction = 0.02;
+  int pf_particles = 1000;
+  int refine_window_epochs = 5;     // W of the Ceres refinement (refinement.h)
+  bool refine_use_csi = true;
+  placement::UraVariant ura_variant = placement::UraVariant::kRigid;
+  std::vector<int> outage_values = {0, 2, 4, 8};  // UAVs without beacon
+  std::vector<CoevalAlgorithm> outage_algorithms = {CoevalAlgorithm::kGdEkf,
+                                                    CoevalAlgorithm::kGdEkfNoFallback};
+  int outage_first_epoch = 10;
+  int outage_epochs = 30;
+  int outage_degraded_after_epochs = 5;
+  double outage_beacon_noise_m = 0.1;  // cross-range 1-sigma at R, as beacon_noise_m's value
+};
+
+// The [coevaluation] keys.
+std::map<std::string, std::set<std::string>> coevaluation_config_keys();
+// Reads and validates [coevaluation] (absent keys keep their defaults); a bad key or value
+// throws common::InputError naming "origin:line: [coevaluation] key" and the value.
+CoevaluationSettings load_coevaluation_settings(const experiment::ExperimentSettings& settings);
+// The settings as an INI [coevaluation] section (every key, defaults filled in).
+std::string to_ini(const CoevaluationSettings& settings);
+
+// The extra metric columns, in order (see above).
+const std::vector<std::string>& coevaluation_extra_metrics();
+
+// The closed-loop config of `algorithm` (a closed-loop one) at beacon cross-range error
+// beacon_noise_m [m] (sigma_angle_rad = beacon_noise_m / R).
+fusion::ClosedLoopConfig coevaluation_closed_loop_config(const CoevaluationSettings& settings,
+                                                 const placement::Scenario& scenario,
+                                                 CoevalAlgorithm algorithm, double beacon_noise_m);
+
+// The UAVs that lose the beacon in the outage sweep: floor(i * num_uavs / num_lost).
+std::vector<int> outage_uavs(int num_lost, int num_uavs);
+
+// Solutions of eq. 4 per start, shared by every sweep point of a run (thread-safe).
+class CentralizedCache;
+
+// One trial of each sweep: every configured algorithm's record (extra = the metrics above).
+std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::ExperimentSettings& settings,
+                                                           int point, int trial,
+                                                           CentralizedCache* cache = nullptr);
+std::vector<experiment::TrialRecord> run_outage_trial(const experiment::ExperimentSettings& settings,
+                                                     int point, int trial);
+
+// The two extensions (experiment_extensions.h lists them). Each beacon_noise_m extension owns
+// a CentralizedCache.
+experiment::ExperimentExtension beacon_noise_extension();
+experiment::ExperimentExtension beacon_outage_extension();
+
+}  // namespace losmimo::coevaluation

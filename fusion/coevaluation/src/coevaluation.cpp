@@ -1,0 +1,330 @@
+// The co-evaluation trials (coevaluation.h): one record per algorithm from a shared start and
+// seed, with the localization statistics as extra columns.
+#include "losmimo/coevaluation/coevaluation.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+
+#include "losmimo/common/seed.h"
+#include "losmimo/fusion/centralized.h"
+#include "losmimo/coevaluation/report.h"
+#include "losmimo/localization/beacon_model.h"
+#include "losmimo/placement/metrics.h"
+
+namespace losmimo::coevaluation {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Tags of ura_ekf's per-UAV seed streams (sensors, filter), derived from the trial seed with
+// common::derive_seed: each UAV's draws depend on (trial seed, tag, UAV) only.
+constexpr std::uint64_t kUraSimulatorStream = 0x55524153;  // "URAS"
+constexpr std::uint64_t kUraFilterStream = 0x55524146;     // "URAF"
+// Straight-line flight to the centralized solution, sampled to find the ICN milestones.
+constexpr int kCentralizedFlightSteps = 200;
+
+localization::SimulatorConfig simulator_config(const CoevaluationSettings& c, const placement::Scenario& scenario,
+                                               double beacon_noise_m) {
+  localization::SimulatorConfig sim;
+  sim.sigma_range_m = c.sigma_range_m;
+  sim.sigma_angle_rad = beacon_noise_m / scenario.range_m();
+  sim.dr_sigma_floor_m = c.dr_sigma_floor_m;
+  sim.dr_sigma_fraction = c.dr_sigma_fraction;
+  return sim;
+}
+
+// The filter assumes the true noise, floored: a zero-noise beacon would make the EKF's
+// innovation covariance singular and the refinement's whitening infinite.
+localization::FilterConfig filter_config(const CoevaluationSettings& c, const localization::SimulatorConfig& sim) {
+  localization::FilterConfig f;
+  f.noise.sigma_range_m = std::max(sim.sigma_range_m, f.min_sigma_range_m);
+  f.noise.sigma_angle_rad = std::max(sim.sigma_angle_rad, f.min_sigma_angle_rad);
+  f.noise.dr_sigma_floor_m = sim.dr_sigma_floor_m;
+  f.noise.dr_sigma_fraction = sim.dr_sigma_fraction;
+  f.num_particles = c.pf_particles;
+  return f;
+}
+
+std::vector<double> extras(double rmse, double lateral, double nees, double fallback, double beacon_lateral) {
+  return {rmse, lateral, nees, fallback, beacon_lateral};
+}
+
+double fallback_fraction(const fusion::ClosedLoopStats& s, int iterations) {
+  int bf = 0;
+  for (const int n : s.bf_fallback_iterations) bf += n;
+  const double uav_iterations = static_cast<double>(s.bf_fallback_iterations.size()) * iterations;
+  return uav_iterations > 0.0 ? bf / uav_iterations : 0.0;
+}
+
+experiment::TrialRecord closed_loop_record(const experiment::ExperimentSettings& s, const std::string& sweep, int point, int trial, CoevalAlgorithm a,
+                                          const fusion::ClosedLoopConfig& config) {
+  const fusion::ClosedLoopRun r = fusion::run_closed_loop(s.placement, experiment::trial_start_positions_m(s, trial), config,
+                                          experiment::trial_seed(s, sweep, point, trial));
+  experiment::TrialRecord rec = experiment::make_record(s, sweep, point, trial, to_string(a), r.run);
+  rec.extra = extras(r.stats.rmse_m, r.stats.lateral_rmse_m, r.stats.average_nees,
+                     fallback_fraction(r.stats, r.run.iterations),
+                     r.stats.num_beacons > 0 ? r.stats.beacon_only_lateral_rmse_m : kNaN);
+  return rec;
+}
+
+// URA's position source: every UAV's own sensors and EKF, one epoch per estimate (the URA
+// planner asks once per UAV at start and once per UAV per iteration, as the closed loop
+// localizes). Epoch 0 is the beacon-only fix, or the start cube as a prior without a beacon.
+class EkfPositionSource {
+ public:
+  EkfPositionSource(const placement::Scenario& scenario, const localization::SimulatorConfig& sim,
+                    const localization::FilterConfig& filter, int num_uavs, std::uint64_t seed)
+      : scenario_(scenario), filter_config_(filter) {
+    for (int m = 0; m < num_uavs; ++m) {
+      const auto uav = static_cast<std::uint64_t>(m);
+      uavs_.push_back({localization::SensorSimulator(sim, common::derive_seed(seed, {kUraSimulatorStream, uav})),
+                       nullptr, common::derive_seed(seed, {kUraFilterStream, uav}), Eigen::Vector3d::Zero(), 0});
+    }
+  }
+
+  Eigen::Vector3d estimate(int m, const Eigen::Vector3d& q_m) {
+    Uav& uav = uavs_.at(static_cast<std::size_t>(m));
+    localization::Belief belief;
+    std::optional<localization::BeaconMeasurement> z;
+    if (!uav.filter) {
+      z = uav.simulator.measure_beacon(q_m, 0);
+      if (z) {
+        belief = localization::beacon_fix(*z, filter_config_.noise.sigma_range_m, filter_config_.noise.sigma_angle_rad);
+      } else {
+        const double sigma_m = scenario_.cube_side_m / std::sqrt(12.0);  // uniform start cube
+        belief.mean_m = scenario_.cube_center_m;
+        belief.cov_m2 = sigma_m * sigma_m * Eigen::Matrix3d::Identity();
+      }
+      uav.filter = localization::make_filter(localization::FilterKind::kEkf, filter_config_, belief, uav.filter_seed);
+    } else {
+      ++uav.epoch;
+      const Eigen::Vector3d d_meas = uav.simulator.measure_displacement(q_m - uav.last_q_m);
+      z = uav.simulator.measure_beacon(q_m, uav.epoch);
+      uav.filter->step(d_meas, z);
+      belief = uav.filter->belief();
+    }
+    uav.last_q_m = q_m;
+    const Eigen::Vector3d e = belief.mean_m - q_m;
+    sq_m2_ += e.squaredNorm();
+    lateral_sq_m2_ += e.tail<2>().squaredNorm();
+    nees_ += e.dot(belief.cov_m2.ldlt().solve(e));
+    ++samples_;
+    if (z) {
+      beacon_lateral_sq_m2_ +=
+          (localization::beacon_to_position(localization::to_vector(*z)) - q_m).tail<2>().squaredNorm();
+      ++beacons_;
+    }
+    return belief.mean_m;
+  }
+
+  std::vector<double> extra() const {
+    const double n = std::max<long>(samples_, 1);
+    return extras(std::sqrt(sq_m2_ / n), std::sqrt(lateral_sq_m2_ / n), nees_ / n, kNaN,
+                  beacons_ > 0 ? std::sqrt(beacon_lateral_sq_m2_ / static_cast<double>(beacons_)) : kNaN);
+  }
+
+ private:
+  struct Uav {
+    localization::SensorSimulator simulator;
+    std::unique_ptr<localization::PositionFilter> filter;  // null until epoch 0
+    std::uint64_t filter_seed;
+    Eigen::Vector3d last_q_m;
+    int epoch;
+  };
+  placement::Scenario scenario_;
+  localization::FilterConfig filter_config_;
+  std::vector<Uav> uavs_;
+  double sq_m2_ = 0.0, lateral_sq_m2_ = 0.0, nees_ = 0.0, beacon_lateral_sq_m2_ = 0.0;
+  long samples_ = 0, beacons_ = 0;
+};
+
+placement::RunResult centralized_run(const placement::Scenario& scenario, const Eigen::Matrix3Xd& start_m,
+                                     const fusion::CentralizedResult& c) {
+  placement::RunResult r;
+  r.planner = "centralized";
+  r.status = c.status == fusion::CentralizedStatus::kFeasible ? placement::RunStatus::kConverged
+                                                      : placement::RunStatus::kIterationCap;
+  r.iterations = 0;
+  r.start_m = start_m;
+  r.final_m = c.positions_m;
+  r.placement_dist_m = (c.positions_m - start_m).colwise().norm().transpose();
+  r.probe_dist_m = Eigen::VectorXd::Zero(start_m.cols());
+  const double mean_m = r.placement_dist_m.mean();
+  const placement::ChannelModel model(scenario);
+  for (int step = 0; step <= kCentralizedFlightSteps; ++step) {
+    const double t = static_cast<double>(step) / kCentralizedFlightSteps;
+    const double icn = placement::inverse_condition_number(model.matrix(start_m + t * (c.positions_m - start_m)));
+    for (auto [milestone, threshold] : {std::pair{&r.icn050, 0.5}, std::pair{&r.icn095, 0.95}}) {
+      if (!milestone->reached && icn >= threshold) *milestone = {true, 0, t * mean_m};
+    }
+  }
+  return r;
+}
+
+}  // namespace
+
+class CentralizedCache {
+ public:
+  // The solution for `key`, solving (outside the lock) when absent. The solve is deterministic,
+  // so a duplicate solve by a second thread changes nothing.
+  std::shared_ptr<const fusion::CentralizedResult> get(const std::string& key,
+                                               const std::function<fusion::CentralizedResult()>& solve) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      const auto it = results_.find(key);
+      if (it != results_.end()) return it->second;
+    }
+    auto result = std::make_shared<const fusion::CentralizedResult>(solve());
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return results_.emplace(key, std::move(result)).first->second;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::map<std::string, std::shared_ptr<const fusion::CentralizedResult>> results_;
+};
+
+fusion::ClosedLoopConfig coevaluation_closed_loop_config(const CoevaluationSettings& c, const placement::Scenario& scenario,
+                                                 CoevalAlgorithm a, double beacon_noise_m) {
+  if (a != CoevalAlgorithm::kGdEkf && a != CoevalAlgorithm::kGdEkfNoFallback && a != CoevalAlgorithm::kGdPf &&
+      a != CoevalAlgorithm::kGdEkfCeres) {
+    throw std::invalid_argument("coevaluation_closed_loop_config: " + to_string(a) + " is not a closed loop");
+  }
+  fusion::ClosedLoopConfig config;
+  config.simulator = simulator_config(c, scenario, beacon_noise_m);
+  config.filter = filter_config(c, config.simulator);
+  config.filter_kind = a == CoevalAlgorithm::kGdPf ? localization::FilterKind::kParticle : localization::FilterKind::kEkf;
+  config.refine = a == CoevalAlgorithm::kGdEkfCeres;
+  config.refinement = fusion::refinement_config_from(config.filter.noise, scenario.noise_variance());
+  config.refinement.window_epochs = c.refine_window_epochs;
+  config.refinement.use_csi = c.refine_use_csi;
+  config.fallback_to_bf = a != CoevalAlgorithm::kGdEkfNoFallback;
+  return config;
+}
+
+std::vector<int> outage_uavs(int num_lost, int num_uavs) {
+  if (num_lost < 0 || num_lost > num_uavs)
+    throw std::invalid_argument("outage_uavs: " + std::to_string(num_lost) + " of " + std::to_string(num_uavs));
+  std::vector<int> uavs;
+  for (int i = 0; i < num_lost; ++i) uavs.push_back(i * num_uavs / num_lost);
+  return uavs;
+}
+
+std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::ExperimentSettings& s, int point,
+                                                           int trial, CentralizedCache* cache) {
+  const experiment::SweepPoints* sweep = s.sweep(kSweepBeaconNoise);
+  if (!sweep) throw std::invalid_argument("run_beacon_noise_trial: the settings have no beacon_noise_m sweep");
+  const CoevaluationSettings c = load_coevaluation_settings(s);
+  const double v = sweep->values.at(static_cast<std::size_t>(point));
+  const placement::Scenario& scenario = s.placement.scenario;
+  const Eigen::Matrix3Xd start = experiment::trial_start_positions_m(s, trial);
+  const std::uint64_t seed = experiment::trial_seed(s, kSweepBeaconNoise, point, trial);
+  const placement::ChannelModel model(scenario);  // the Swarms keep a pointer to it
+
+  std::vector<experiment::TrialRecord> records;
+  for (const CoevalAlgorithm a : c.algorithms) {
+    const auto record = [&](const placement::RunResult& run, std::vector<double> extra) {
+      records.push_back(experiment::make_record(s, kSweepBeaconNoise, point, trial, to_string(a), run));
+      records.back().extra = std::move(extra);
+    };
+    placement::ErrorModel errors = s.placement.errors;
+    errors.sigma_loc_m = 0.0;
+    switch (a) {
+      case CoevalAlgorithm::kGdGauss: {
+        errors.sigma_loc_m = v;
+        placement::Swarm swarm(model, start, errors, seed);
+        placement::GradientDescentPlanner gd(scenario, s.placement.gd);
+        record(placement::run_placement(gd, swarm, s.placement.run),
+               extras(std::sqrt(3.0) * v, std::sqrt(2.0) * v, kNaN, kNaN, kNaN));
+        break;
+      }
+      case CoevalAlgorithm::kBf: {
+        placement::Swarm swarm(model, start, errors, seed);
+        placement::BruteForcePlanner bf(scenario, s.placement.bf);
+        record(placement::run_placement(bf, swarm, s.placement.run), extras(kNaN, kNaN, kNaN, kNaN, kNaN));
+        break;
+      }
+      case CoevalAlgorithm::kUraEkf: {
+        const localization::SimulatorConfig sim = simulator_config(c, scenario, v);
+        EkfPositionSource source(scenario, sim, filter_config(c, sim), scenario.num_uavs, seed);
+        placement::Swarm swarm(model, start, errors, seed);
+        swarm.set_position_estimator([&source](int m, const Eigen::Vector3d& q) { return source.estimate(m, q); });
+        placement::UraPlanner ura(scenario, c.ura_variant);
+        const placement::RunResult run = placement::run_placement(ura, swarm, s.placement.run);
+        record(run, source.extra());  // after the run: the source's statistics are the run's
+        break;
+      }
+      case CoevalAlgorithm::kCentralized: {
+        fusion::CentralizedConfig cc;
+        cc.target_icn = s.placement.run.target_icn;
+        const auto solve = [&] { return fusion::solve_centralized(scenario, start, cc); };
+        const std::string key = placement::to_ini(s.placement) + "#start " +
+                                std::to_string(experiment::trial_start_seed(s, trial));
+        const std::shared_ptr<const fusion::CentralizedResult> solution =
+            cache ? cache->get(key, solve) : std::make_shared<const fusion::CentralizedResult>(solve());
+        record(centralized_run(scenario, start, *solution), extras(kNaN, kNaN, kNaN, kNaN, kNaN));
+        break;
+      }
+      default:
+        records.push_back(closed_loop_record(s, kSweepBeaconNoise, point, trial, a,
+                                             coevaluation_closed_loop_config(c, scenario, a, v)));
+    }
+  }
+  return records;
+}
+
+std::vector<experiment::TrialRecord> run_outage_trial(const experiment::ExperimentSettings& s, int point, int trial) {
+  const experiment::SweepPoints* sweep = s.sweep(kSweepBeaconOutage);
+  if (!sweep) throw std::invalid_argument("run_outage_trial: the settings have no beacon_outage sweep");
+  const CoevaluationSettings c = load_coevaluation_settings(s);
+  const int num_lost = static_cast<int>(sweep->values.at(static_cast<std::size_t>(point)));
+  std::vector<experiment::TrialRecord> records;
+  for (const CoevalAlgorithm a : c.outage_algorithms) {
+    fusion::ClosedLoopConfig config = coevaluation_closed_loop_config(c, s.placement.scenario, a, c.outage_beacon_noise_m);
+    config.filter.degraded_after_epochs = c.outage_degraded_after_epochs;
+    for (const int m : outage_uavs(num_lost, s.placement.scenario.num_uavs)) {
+      config.outages.push_back({m, {c.outage_first_epoch, c.outage_epochs}});
+    }
+    records.push_back(closed_loop_record(s, kSweepBeaconOutage, point, trial, a, config));
+  }
+  return records;
+}
+
+experiment::ExperimentExtension beacon_noise_extension() {
+  auto cache = std::make_shared<CentralizedCache>();
+  experiment::ExperimentExtension e;
+  e.sweep = kSweepBeaconNoise;
+  e.config_keys = coevaluation_config_keys();
+  e.extra_metrics = coevaluation_extra_metrics();
+  e.load_values = [](const experiment::ExperimentSettings& s) { return load_coevaluation_settings(s).beacon_noise_values_m; };
+  e.run = [cache](const experiment::ExperimentSettings& s, int point, int trial) {
+    return run_beacon_noise_trial(s, point, trial, cache.get());
+  };
+  e.figures = write_beacon_noise_figures;
+  e.report_section = beacon_noise_report_section;
+  return e;
+}
+
+experiment::ExperimentExtension beacon_outage_extension() {
+  experiment::ExperimentExtension e;
+  e.sweep = kSweepBeaconOutage;
+  e.config_keys = coevaluation_config_keys();
+  e.extra_metrics = coevaluation_extra_metrics();
+  e.load_values = [](const experiment::ExperimentSettings& s) {
+    const std::vector<int> k = load_coevaluation_settings(s).outage_values;
+    return std::vector<double>(k.begin(), k.end());
+  };
+  e.run = run_outage_trial;
+  e.figures = write_outage_figures;
+  e.report_section = outage_report_section;
+  return e;
+}
+
+}  // namespace losmimo::coevaluation

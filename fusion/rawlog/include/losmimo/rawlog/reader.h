@@ -1,0 +1,93 @@
+#pragma once
+// Reads an MRPT rawlog object by object, never trusting a length it has not checked.
+//
+// MRPT objects carry no length prefix, and MRPT's deserializers resize vectors and strings to a
+// length field before reading them (a corrupted field costs gigabytes). So before MRPT parses an
+// object, a scanner walks its bytes with the known layout of the classes losmimo writes
+// (CObservationComment, CObservationRawDAQ, CObservationBearingRange, CObservationRobotPose;
+// nested CPose3D / CPose3DPDFGaussian are fixed-size and calibrated at start-up from MRPT
+// itself), checks every length against the limits below, and buffers the whole object; MRPT
+// then parses exactly those bytes from memory. Any other class is either parsed by MRPT directly
+// from the stream (parse_unscanned_classes, default: foreign rawlogs; memory is then bounded
+// only by the process, e.g. the replay app's RLIMIT_AS) or stops the read (strict mode, for
+// fuzzing).
+//
+// Input: a gzip file (what MRPT writes) or an uncompressed one (zlib reads both), or bytes in
+// memory. A truncated or corrupt input never throws from next(): reading stops, and status()
+// says where (object index, uncompressed byte offset) and why.
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mrpt::serialization {
+class CSerializable;
+}
+
+namespace losmimo::rawlog {
+
+struct RawlogReaderOptions {
+  std::size_t max_object_bytes = std::size_t{64} << 20;  // one object, serialized
+  std::size_t max_string_bytes = std::size_t{1} << 20;   // a label or comment text
+  bool parse_unscanned_classes = true;
+};
+
+struct RawlogObject {
+  std::int64_t index = 0;        // 0-based position in the file
+  std::uint64_t offset = 0;      // uncompressed byte offset of its first byte
+  std::string class_name;
+  std::shared_ptr<mrpt::serialization::CSerializable> object;
+  std::vector<std::uint8_t> bytes;  // as serialized (for the integrity digests)
+};
+
+enum class RawlogStop {
+  kNone,       // still reading
+  kEnd,        // clean end of file at an object boundary
+  kTruncated,  // the data ends inside an object, or the gzip stream ends early
+  kCorrupt,    // bad bytes: failed a check, MRPT refused it, or gzip data error
+  kLimit,      // a length above the limits, or a class strict mode does not parse
+};
+std::string to_string(RawlogStop stop);
+
+struct RawlogReadStatus {
+  RawlogStop stop = RawlogStop::kNone;
+  std::int64_t objects = 0;    // objects returned
+  std::uint64_t offset = 0;    // uncompressed offset where reading stopped
+  std::string reason;          // empty for kEnd
+  // "stopped at object 12 (byte 3456): truncated: ..." (or "complete: 12 objects").
+  std::string describe() const;
+};
+
+class RawlogReader {
+ public:
+  // Throws std::runtime_error("<path>: cannot open ...") if the file cannot be opened.
+  static RawlogReader open_file(const std::string& path, const RawlogReaderOptions& options = {});
+  static RawlogReader from_bytes(std::string bytes, const RawlogReaderOptions& options = {});
+
+  RawlogReader(RawlogReader&&) noexcept;
+  RawlogReader& operator=(RawlogReader&&) noexcept;
+  ~RawlogReader();
+
+  // The next object, or nullopt when reading stopped (then status() says why).
+  std::optional<RawlogObject> next();
+  const RawlogReadStatus& status() const;
+
+  struct Impl;
+
+ private:
+  explicit RawlogReader(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+// Reads everything (for tests and the fuzz target): the objects and the final status. Never
+// throws on any input; with parse_unscanned_classes = false no allocation exceeds the limits.
+struct RawlogContents {
+  std::vector<RawlogObject> objects;
+  RawlogReadStatus status;
+};
+RawlogContents read_rawlog_bytes(std::string bytes, const RawlogReaderOptions& options = {});
+
+}  // namespace losmimo::rawlog

@@ -1,0 +1,353 @@
+#include "losmimo/rawlog/reader.h"
+
+#include "losmimo/rawlog/source.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include <mrpt/io/CMemoryStream.h>
+#include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/obs/registerAllClasses.h>
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/poses/CPose3DPDFGaussian.h>
+#include <mrpt/serialization/CArchive.h>
+
+namespace losmimo::rawlog {
+
+namespace {
+
+constexpr std::uint8_t kEndFlag = 0x88;  // CArchive's end-of-object byte
+constexpr std::size_t kChunk = 64 * 1024;
+
+// Why reading stopped, thrown inside the reader and turned into the status.
+struct Stop {
+  RawlogStop kind;
+  std::string reason;
+};
+
+// Serialized sizes of the fixed-size nested objects, measured from MRPT itself.
+struct Calibration {
+  std::vector<std::uint8_t> pose3d, pose3d_pdf;  // whole envelopes of default objects
+  std::size_t bearing_cov_bytes = 0;             // one TMeasurement::covariance
+};
+
+std::vector<std::uint8_t> serialize(const mrpt::serialization::CSerializable& o) {
+  mrpt::io::CMemoryStream mem;
+  auto a = mrpt::serialization::archiveFrom(mem);
+  a << o;
+  const auto* p = static_cast<const std::uint8_t*>(mem.getRawBufferData());
+  return {p, p + mem.getTotalBytesCount()};
+}
+
+const Calibration& calibration() {
+  static const Calibration c = [] {
+    mrpt::obs::registerAllClasses_mrpt_obs();
+    Calibration k;
+    k.pose3d = serialize(mrpt::poses::CPose3D());
+    k.pose3d_pdf = serialize(mrpt::poses::CPose3DPDFGaussian());
+    mrpt::obs::CObservationBearingRange b;
+    b.validCovariances = true;
+    const std::size_t n0 = serialize(b).size();
+    b.sensedData.resize(1);
+    b.sensedData[0].landmarkID = 0;
+    b.sensedData[0].covariance.setZero();
+    k.bearing_cov_bytes = serialize(b).size() - n0 - (3 * sizeof(float) + sizeof(std::int32_t));
+    return k;
+  }();
+  return c;
+}
+
+std::string first_line(const std::string& s) {
+  std::string out;
+  std::istringstream in(s);
+  for (std::string line; std::getline(in, line);) {
+    if (line.find_first_not_of(" \t=") == std::string::npos) continue;
+    out = line;
+    if (line.find("Exception") == std::string::npos && line.find("==") == std::string::npos) break;
+  }
+  return out.empty() ? s : out;
+}
+
+}  // namespace
+
+std::string to_string(RawlogStop stop) {
+  switch (stop) {
+    case RawlogStop::kNone: return "reading";
+    case RawlogStop::kEnd: return "end";
+    case RawlogStop::kTruncated: return "truncated";
+    case RawlogStop::kCorrupt: return "corrupt";
+    case RawlogStop::kLimit: return "limit";
+  }
+  return "?";
+}
+
+std::string RawlogReadStatus::describe() const {
+  std::ostringstream o;
+  if (stop == RawlogStop::kEnd) {
+    o << "end of file after " << objects << " objects (" << offset << " bytes)";
+  } else {
+    o << "stopped at object " << objects << " (uncompressed byte " << offset << "): "
+      << to_string(stop) << ": " << reason;
+  }
+  return o.str();
+}
+
+struct RawlogReader::Impl {
+  RawlogReaderOptions options;
+  std::unique_ptr<RawlogByteSource> source;
+  std::vector<std::uint8_t> buf;
+  std::size_t head = 0;         // start of the current object in buf
+  std::uint64_t buf_base = 0;   // absolute offset of buf[0]
+  bool source_ended = false;
+  RawlogReadStatus status;
+
+  // At least k bytes from head buffered? Reads more as needed.
+  bool ensure(std::size_t k) {
+    while (buf.size() - head < k) {
+      if (source_ended) return false;
+      if (head > 0 && head >= buf.size() / 2) {  // drop consumed bytes
+        buf.erase(buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(head));
+        buf_base += head;
+        head = 0;
+      }
+      const std::size_t old = buf.size();
+      buf.resize(old + kChunk);
+      std::size_t got = 0;
+      try {
+        got = source->read(buf.data() + old, kChunk);
+      } catch (const RawlogSourceError& e) {
+        buf.resize(old);
+        throw Stop{e.truncated ? RawlogStop::kTruncated : RawlogStop::kCorrupt, e.what()};
+      }
+      buf.resize(old + got);
+      if (got == 0) source_ended = true;
+    }
+    return true;
+  }
+
+  // A cursor over the current object (offsets relative to head).
+  struct Cursor {
+    Impl& r;
+    std::size_t pos = 0;
+    void need(std::size_t n) {
+      if (n > r.options.max_object_bytes || pos + n > r.options.max_object_bytes)
+        throw Stop{RawlogStop::kLimit, "object larger than max_object_bytes (" +
+                                           std::to_string(r.options.max_object_bytes) + ")"};
+      if (!r.ensure(pos + n)) throw Stop{RawlogStop::kTruncated, "data ends inside an object"};
+    }
+    const std::uint8_t* at() const { return r.buf.data() + r.head + pos; }
+    void skip(std::size_t n) {
+      need(n);
+      pos += n;
+    }
+    std::uint8_t u8() {
+      need(1);
+      return r.buf[r.head + pos++];
+    }
+    std::uint32_t u32() {
+      need(4);
+      std::uint32_t v;
+      std::memcpy(&v, at(), 4);
+      pos += 4;
+      return v;
+    }
+    void string(const char* what) {
+      const std::uint32_t n = u32();
+      if (n > r.options.max_string_bytes)
+        throw Stop{RawlogStop::kLimit, std::string(what) + " length " + std::to_string(n) +
+                                           " above max_string_bytes"};
+      skip(n);
+    }
+    void vector(std::size_t elem_bytes, const char* what) {
+      const std::uint32_t n = u32();
+      if (static_cast<std::uint64_t>(n) * elem_bytes > r.options.max_object_bytes)
+        throw Stop{RawlogStop::kLimit, std::string(what) + " length " + std::to_string(n) +
+                                           " above max_object_bytes"};
+      skip(n * elem_bytes);
+    }
+    // A nested fixed-size object: its header must match the calibrated one exactly.
+    void nested(const std::vector<std::uint8_t>& model, const char* what) {
+      const std::size_t header = 1 + (model[0] & 0x7F) + 1;
+      need(header);
+      if (std::memcmp(at(), model.data(), header) != 0)
+        throw Stop{RawlogStop::kCorrupt, std::string("nested ") + what + " header mismatch"};
+      skip(model.size());
+    }
+  };
+
+  // The whole length of the object at head if its class is one the scanner knows; nullopt
+  // otherwise (class name in `name`).
+  std::optional<std::size_t> scan(std::string& name) {
+    const Calibration& cal = calibration();
+    Cursor c{*this};
+    const std::uint8_t len = c.u8();
+    if (!(len & 0x80)) throw Stop{RawlogStop::kCorrupt, "object header without the MRPT >= 0.5.5 flag"};
+    const std::size_t name_len = len & 0x7F;
+    if (name_len == 0 || name_len > 120) throw Stop{RawlogStop::kCorrupt, "bad class name length"};
+    c.need(name_len);
+    name.assign(reinterpret_cast<const char*>(c.at()), name_len);
+    for (char ch : name) {
+      if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == ':'))
+        throw Stop{RawlogStop::kCorrupt, "bad class name"};
+    }
+    c.pos += name_len;
+    const std::uint8_t version = c.u8();
+    // MRPT 2 names classes with their namespace; older files without it.
+    const std::string prefix = "mrpt::obs::";
+    const std::string cls = name.compare(0, prefix.size(), prefix) == 0 ? name.substr(prefix.size()) : name;
+    if (cls == "CObservationComment" && version <= 1) {
+      c.string("comment text");
+      c.skip(8);  // timestamp
+      if (version >= 1) c.string("sensorLabel");
+    } else if (cls == "CObservationRawDAQ" && version == 0) {
+      c.string("sensorLabel");
+      c.skip(8 + 8);  // timestamp, sample_rate
+      c.vector(1, "AIN_8bits");
+      c.vector(2, "AIN_16bits");
+      c.vector(4, "AIN_32bits");
+      c.vector(4, "AIN_float");
+      c.vector(8, "AIN_double");
+      c.skip(2 + 1);  // AIN_channel_count, AIN_interleaved
+      c.vector(1, "AOUT_8bits");
+      c.vector(2, "AOUT_16bits");
+      c.vector(4, "AOUT_float");
+      c.vector(8, "AOUT_double");
+      c.vector(1, "DIN");
+      c.vector(1, "DOUT");
+      c.vector(4, "CNTRIN_32bits");
+      c.vector(8, "CNTRIN_double");
+    } else if (cls == "CObservationBearingRange" && version == 3) {
+      c.skip(4 * 4);  // min/max distance, fields of view
+      c.nested(cal.pose3d, "CPose3D");
+      c.skip(8);  // timestamp
+      const bool valid_cov = c.u8() != 0;
+      if (!valid_cov) c.skip(3 * 4);
+      const std::size_t per = 3 * 4 + 4 + (valid_cov ? cal.bearing_cov_bytes : 0);
+      const std::uint32_t n = c.u32();
+      if (static_cast<std::uint64_t>(n) * per > options.max_object_bytes)
+        throw Stop{RawlogStop::kLimit, "sensedData length " + std::to_string(n) + " above max_object_bytes"};
+      c.skip(n * per);
+      c.string("sensorLabel");
+    } else if (cls == "CObservationRobotPose" && version == 1) {
+      c.nested(cal.pose3d_pdf, "CPose3DPDFGaussian");
+      c.string("sensorLabel");
+      c.skip(8);
+      c.nested(cal.pose3d, "CPose3D");
+    } else {
+      return std::nullopt;
+    }
+    if (c.u8() != kEndFlag) throw Stop{RawlogStop::kCorrupt, "end-of-object flag missing in " + name};
+    return c.pos;
+  }
+
+  // MRPT reads an unscanned object straight from the buffer and the source.
+  class Adapter : public mrpt::io::CStream {
+   public:
+    explicit Adapter(Impl& r) : r_(r) {}
+    size_t Read(void* dst, size_t n) override {
+      if (!r_.ensure(pos_ + n)) n = r_.buf.size() - r_.head - pos_;
+      std::memcpy(dst, r_.buf.data() + r_.head + pos_, n);
+      pos_ += n;
+      return n;
+    }
+    size_t Write(const void*, size_t) override { return 0; }
+    uint64_t Seek(int64_t, TSeekOrigin) override { throw std::runtime_error("not seekable"); }
+    uint64_t getTotalBytesCount() const override { return 0; }
+    uint64_t getPosition() const override { return pos_; }
+    std::size_t consumed() const { return pos_; }
+
+   private:
+    Impl& r_;
+    std::size_t pos_ = 0;
+  };
+
+  std::optional<RawlogObject> next() {
+    if (status.stop != RawlogStop::kNone) return std::nullopt;
+    RawlogObject out;
+    out.index = status.objects;
+    out.offset = buf_base + head;
+    status.offset = out.offset;
+    try {
+      if (!ensure(1)) {
+        status.stop = RawlogStop::kEnd;
+        return std::nullopt;
+      }
+      const std::optional<std::size_t> size = scan(out.class_name);
+      std::size_t n = 0;
+      if (size) {
+        n = *size;
+        mrpt::io::CMemoryStream mem;
+        mem.assignMemoryNotOwn(buf.data() + head, n);
+        auto a = mrpt::serialization::archiveFrom(mem);
+        out.object = a.ReadObject();
+        if (mem.getPosition() != n) throw Stop{RawlogStop::kCorrupt, "MRPT read a different length"};
+      } else if (options.parse_unscanned_classes) {
+        Adapter in(*this);
+        auto a = mrpt::serialization::archiveFrom(in);
+        out.object = a.ReadObject();
+        n = in.consumed();
+      } else {
+        throw Stop{RawlogStop::kLimit, "class " + out.class_name + " is not one the reader can bound"};
+      }
+      out.bytes.assign(buf.begin() + static_cast<std::ptrdiff_t>(head),
+                       buf.begin() + static_cast<std::ptrdiff_t>(head + n));
+      head += n;
+      ++status.objects;
+      status.offset = buf_base + head;
+      return out;
+    } catch (const Stop& s) {
+      status.stop = s.kind;
+      status.reason = (out.class_name.empty() ? "" : out.class_name + ": ") + s.reason;
+    } catch (const std::bad_alloc&) {
+      status.stop = RawlogStop::kLimit;
+      status.reason = out.class_name + ": out of memory while MRPT parsed it";
+    } catch (const std::exception& e) {
+      // MRPT throws on EOF inside an object and on bad content alike: tell them apart by
+      // whether the source ran dry.
+      status.stop = source_ended ? RawlogStop::kTruncated : RawlogStop::kCorrupt;
+      status.reason = out.class_name + ": MRPT: " + first_line(e.what());
+    } catch (...) {
+      status.stop = RawlogStop::kCorrupt;
+      status.reason = out.class_name + ": MRPT threw a non-standard exception";
+    }
+    return std::nullopt;
+  }
+};
+
+RawlogReader::RawlogReader(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+RawlogReader::RawlogReader(RawlogReader&&) noexcept = default;
+RawlogReader& RawlogReader::operator=(RawlogReader&&) noexcept = default;
+RawlogReader::~RawlogReader() = default;
+
+RawlogReader RawlogReader::open_file(const std::string& path, const RawlogReaderOptions& options) {
+  calibration();
+  auto impl = std::make_unique<Impl>();
+  impl->options = options;
+  impl->source = open_rawlog_file_source(path);
+  return RawlogReader(std::move(impl));
+}
+
+RawlogReader RawlogReader::from_bytes(std::string bytes, const RawlogReaderOptions& options) {
+  calibration();
+  auto impl = std::make_unique<Impl>();
+  impl->options = options;
+  impl->source = make_rawlog_memory_source(std::move(bytes));
+  return RawlogReader(std::move(impl));
+}
+
+std::optional<RawlogObject> RawlogReader::next() { return impl_->next(); }
+const RawlogReadStatus& RawlogReader::status() const { return impl_->status; }
+
+RawlogContents read_rawlog_bytes(std::string bytes, const RawlogReaderOptions& options) {
+  RawlogReader reader = RawlogReader::from_bytes(std::move(bytes), options);
+  RawlogContents out;
+  while (auto o = reader.next()) out.objects.push_back(std::move(*o));
+  out.status = reader.status();
+  return out;
+}
+
+}  // namespace losmimo::rawlog

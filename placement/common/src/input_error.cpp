@@ -1,0 +1,54 @@
+#include "losmimo/common/input_error.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+namespace losmimo::common {
+
+namespace {
+std::string trimmed(const std::string& s) {
+  const auto not_space = [](unsigned char c) { return !std::isspace(c); };
+  const auto b = std::find_if(s.begin(), s.end(), not_space);
+  const auto e = std::find_if(s.rbegin(), s.rend(), not_space).base();
+  return b < e ? std::string(b, e) : std::string();
+}
+}  // namespace
+
+double parse_double(const std::string& text, const std::string& where) {
+  const std::string t = trimmed(text);
+  char* end = nullptr;
+  errno = 0;
+  const double v = t.empty() ? 0.0 : std::strtod(t.c_str(), &end);
+  if (t.empty() || end != t.c_str() + t.size() || errno == ERANGE || !std::isfinite(v)) {
+    throw InputError(where + ": '" + text + "' is not a finite number");
+  }
+  return v;
+}
+
+long long parse_integer(const std::string& text, const std::string& where, long long lo, long long hi) {
+  const std::string t = trimmed(text);
+  char* end = nullptr;
+  errno = 0;
+  const long long v = t.empty() ? 0 : std::strtoll(t.c_str(), &end, 10);
+  if (t.empty() || end != t.c_str() + t.size() || errno == ERANGE) {
+    throw InputError(where + ": '" + text + "' is not an integer");
+  }
+  if (v < lo || v > hi) {
+    throw InputError(where + ": " + t + " is out of range [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "]");
+  }
+  return v;
+}
+
+bool parse_bool(const std::string& text, const std::string& where) {
+  std::string t = trimmed(text);
+  std::transform(t.begin(), t.end(), t.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (t == "true" || t == "1" || t == "yes" || t == "on") return true;
+  if (t == "false" || t == "0" || t == "no" || t == "off") return false;
+  throw InputError(where + ": '" + text + "' is not a boolean (true/false)");
+}
+
+}  // namespace losmimo::common

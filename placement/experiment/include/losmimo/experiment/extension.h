@@ -1,0 +1,50 @@
+#pragma once
+// How a higher library adds sweep kinds to `losmimo-experiment` without placement depending on
+// it: the app passes a list of extensions (e.g. fusion's co-evaluation). Each one owns a sweep
+// name, its INI sections, the algorithms it runs at every point, and any extra trials.csv
+// columns; the engine schedules, seeds, writes, summarises and reports its rows like the
+// built-in sweeps'.
+
+#include <functional>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "losmimo/common/ini_config.h"
+#include "losmimo/experiment/trial.h"
+
+namespace losmimo::experiment {
+
+struct SummaryRow;
+
+struct ExperimentExtension {
+  std::string sweep;  // its name in [experiment] sweeps and in the `sweep` column
+  std::map<std::string, std::set<std::string>> config_keys;  // the INI keys it reads
+  std::vector<std::string> extra_metrics;  // extra trials.csv / summary.csv columns it fills
+  // Validates its configuration (throwing common::InputError naming key and value) and returns the
+  // sweep points. Called before any work.
+  std::function<std::vector<double>(const ExperimentSettings&)> load_values;
+  // Runs its algorithms on trial `trial` at sweep point `point`; the records' `extra` follow
+  // extra_metrics. Must be deterministic in (settings, point, trial) and thread-safe.
+  std::function<std::vector<TrialRecord>(const ExperimentSettings&, int point, int trial)> run;
+  // Optional: figures (write files into the folder, return warnings) and a report.md section.
+  std::function<std::vector<std::string>(const ExperimentSettings&, const std::vector<SummaryRow>&,
+                                          const std::string& out_dir)>
+      figures;
+  std::function<std::string(const ExperimentSettings&, const std::vector<SummaryRow>&)> report_section;
+};
+using ExperimentExtensions = std::vector<ExperimentExtension>;
+
+// All INI keys: placement's, [experiment], and the extensions'.
+std::map<std::string, std::set<std::string>> experiment_config_keys(const ExperimentExtensions& extensions = {});
+
+// Validates every key (unknown ones included) before any work; common::InputError names key and value.
+ExperimentSettings load_experiment_settings(const common::IniConfig& config, const ExperimentExtensions& extensions = {});
+std::string to_ini(const ExperimentSettings& settings);
+
+// The extra metric columns of the sweeps enabled in `settings`, in extension order.
+std::vector<std::string> extra_metric_names(const ExperimentSettings& settings,
+                                            const ExperimentExtensions& extensions);
+
+}  // namespace losmimo::experiment

@@ -1,0 +1,64 @@
+#pragma once
+// Figures (gnuplot) and report.md of an experiment run.
+//   fig1a.png  ICN vs iteration (GD, BF; Fig 1 traced runs)
+//   fig1b.png  SINR NV / ZF / MF vs iteration
+//   fig2a.png  mean distance per UAV to ICN 0.5 (solid) and 0.95 (dotted) vs sigma_loc
+//   fig2b.png  final SINR (NV solid, ZF dotted, MF dash-dot) vs sigma_loc, random start too
+//   fig3.png   final SINR vs sigma_act
+// Each figure's data (.dat) and script (.gp) sit beside it; gnuplot (Debian gnuplot-nox) is run
+// when it is on PATH, else the scripts are left for the user and a warning says so.
+// report.md puts every value read from the paper's figures beside the measured mean and its
+// 95% confidence interval; a value agrees when |measured - paper| <= CI + the resolution at
+// which it can be read off the paper's plot; every other difference gets a line saying why.
+
+#include <string>
+#include <vector>
+
+#include "losmimo/experiment/engine.h"
+#include "losmimo/experiment/summary.h"
+
+namespace losmimo::experiment {
+
+// How the results were computed, for report.md's first line and the app's last line.
+// A merge of shard folders reports the shards' own timing (from their shard.ini), not just
+// the seconds the merge took.
+struct RunTiming {
+  double wall_s = 0.0;  // this process: the whole run, or for a merge the merge itself
+  int threads = 1;      // this process's threads (all ranks' threads under MPI)
+  int shards = 0;       // > 0: merged from this many shard folders
+  // Over the shards that recorded their own run in shard.ini (older folders did not):
+  int timed_shards = 0;
+  double slowest_shard_wall_s = 0.0;
+  double shards_wall_s = 0.0;  // sum over those shards
+  int min_shard_threads = 0;
+  int max_shard_threads = 0;
+};
+// "2 threads, 500.4 s wall", or "merged from 20 shards of 1 thread: slowest 71.4 s wall,
+// 1276.3 s wall summed over shards; merge 3.8 s".
+std::string describe(const RunTiming& timing);
+
+struct ReportOutcome {
+  std::vector<std::string> warnings;
+};
+
+// Figures of sweeps that did not run are skipped; extensions add their figures and sections.
+ReportOutcome write_figures_and_report(const ExperimentSettings& settings, const ExperimentExtensions& extensions,
+                                       const ExperimentResults& results,
+                                       const std::vector<SummaryRow>& summary, const std::string& out_dir,
+                                       const RunTiming& timing);
+
+// One paper-vs-measured comparison line of report.md.
+struct PaperValue {
+  std::string figure;    // "Fig 2a"
+  std::string quantity;  // human label
+  std::string sweep;
+  double value;          // sweep point
+  std::string algorithm;
+  std::string metric;    // a summary_metric_names() entry
+  double paper;
+  double resolution;     // how precisely the value can be read off the paper's figure
+  std::string why;       // the explanation used if the measured value differs
+};
+std::vector<PaperValue> paper_values();
+
+}  // namespace losmimo::experiment

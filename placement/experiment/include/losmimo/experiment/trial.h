@@ -1,0 +1,68 @@
+#pragma once
+// One Monte Carlo trial of the experiment: every algorithm from the same start with the same
+// error seed (paired comparison), and the Fig 1 traced runs.
+//
+// Seeds: start_seed = derive_seed(seed, {0, trial}) (the same start at every sweep point);
+//        seed       = derive_seed(seed, {1, fnv1a(sweep name), point, trial}) drives the error
+//        draws: adding or reordering sweeps changes no other sweep's numbers.
+// Distances are means per UAV in metres; dist_to_icn050_m / dist_to_icn095_m are placement
+// distance when the ICN first reached 0.5 / 0.95 (NaN if never); dist_total_m is everything
+// flown (placement + probe), probe_dist_m the BF probe flights alone. SINR columns are stream 1
+// (as the paper) and the mean of the per-stream dB values, at the final positions.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "losmimo/experiment/settings.h"
+#include "losmimo/placement/run.h"
+
+namespace losmimo::experiment {
+
+struct TrialRecord {
+  std::string sweep;   // the sweep's name, e.g. "sigma_loc_m"
+  double value = 0.0;  // the swept quantity at this point
+  std::string algorithm;
+  int trial = 0;
+  std::uint64_t seed = 0;
+  std::uint64_t start_seed = 0;
+  int iterations = 0;
+  bool converged = false;
+  std::string status;
+  double final_icn = 0.0;
+  double dist_to_icn050_m = 0.0;
+  double dist_to_icn095_m = 0.0;
+  double dist_total_m = 0.0;
+  double dist_placement_m = 0.0;
+  double probe_dist_m = 0.0;
+  double sinr_nv_db = 0.0;
+  double sinr_zf_db = 0.0;
+  double sinr_mf_db = 0.0;
+  double mean_sinr_nv_db = 0.0;
+  double mean_sinr_zf_db = 0.0;
+  double mean_sinr_mf_db = 0.0;
+  double sum_rate_nv_bps_hz = 0.0;
+  double sum_rate_zf_bps_hz = 0.0;
+  Eigen::Matrix3Xd start_m;
+  Eigen::Matrix3Xd final_m;
+  std::vector<double> extra;  // an extension's extra metrics (ExperimentExtension::extra_metrics)
+};
+
+// The trial's start positions and seeds (shared by every sweep kind, extensions included).
+Eigen::Matrix3Xd trial_start_positions_m(const ExperimentSettings& settings, int trial);
+std::uint64_t trial_start_seed(const ExperimentSettings& settings, int trial);
+std::uint64_t trial_seed(const ExperimentSettings& settings, const std::string& sweep, int point, int trial);
+
+// Fills a record's common fields from a finished run (metrics at the final positions).
+TrialRecord make_record(const ExperimentSettings& settings, const std::string& sweep, int point, int trial,
+                        const std::string& algorithm, const placement::RunResult& run);
+
+// The built-in sweeps (sigma_loc_m, sigma_act_m): the settings' algorithms on trial `trial`
+// at sweep point `point`.
+std::vector<TrialRecord> run_trial(const ExperimentSettings& settings, const std::string& sweep, int point,
+                                   int trial);
+
+// A Fig 1 run: `algorithm` without errors from trial `trial`'s start, SINR traced.
+placement::RunResult run_traced(const ExperimentSettings& settings, Algorithm algorithm, int trial);
+
+}  // namespace losmimo::experiment

@@ -1,0 +1,67 @@
+#include "losmimo/experiment/csv.h"
+
+#include <cmath>
+#include <cstdio>
+#include <ostream>
+
+#include "losmimo/common/format.h"
+
+namespace losmimo::experiment {
+
+namespace {
+std::string fmt(double v) { return common::format_g(v, common::kCsvDigits); }
+}  // namespace
+
+void write_trials_header(std::ostream& out, const std::vector<std::string>& extra) {
+  out << "sweep,value,algorithm,trial,seed,iterations,converged,final_icn,dist_to_icn050_m,"
+         "dist_to_icn095_m,dist_total_m,probe_dist_m,sinr_nv_db,sinr_zf_db,sinr_mf_db,"
+         "sum_rate_nv_bps_hz,sum_rate_zf_bps_hz,mean_sinr_nv_db,mean_sinr_zf_db,mean_sinr_mf_db,"
+         "dist_placement_m,start_seed,status";
+  for (const std::string& e : extra) out << "," << e;
+  out << "\n";
+}
+
+void write_trials_rows(std::ostream& out, const std::vector<TrialRecord>& records, std::size_t num_extra) {
+  for (const TrialRecord& r : records) {
+    out << r.sweep << "," << fmt(r.value) << "," << r.algorithm << "," << r.trial << ","
+        << r.seed << "," << r.iterations << "," << (r.converged ? 1 : 0) << "," << fmt(r.final_icn) << ","
+        << fmt(r.dist_to_icn050_m) << "," << fmt(r.dist_to_icn095_m) << "," << fmt(r.dist_total_m) << ","
+        << fmt(r.probe_dist_m) << "," << fmt(r.sinr_nv_db) << "," << fmt(r.sinr_zf_db) << ","
+        << fmt(r.sinr_mf_db) << "," << fmt(r.sum_rate_nv_bps_hz) << "," << fmt(r.sum_rate_zf_bps_hz) << ","
+        << fmt(r.mean_sinr_nv_db) << "," << fmt(r.mean_sinr_zf_db) << "," << fmt(r.mean_sinr_mf_db) << ","
+        << fmt(r.dist_placement_m) << "," << r.start_seed << "," << r.status;
+    for (std::size_t i = 0; i < num_extra; ++i) out << "," << fmt(i < r.extra.size() ? r.extra[i] : std::nan(""));
+    out << "\n";
+  }
+}
+
+void write_positions_header(std::ostream& out) { out << "sweep,value,algorithm,trial,uav,stage,x,y,z\n"; }
+
+void write_positions_rows(std::ostream& out, const std::vector<TrialRecord>& records) {
+  char buf[128];
+  for (const TrialRecord& r : records) {
+    const std::string prefix = r.sweep + "," + fmt(r.value) + "," + r.algorithm + "," +
+                               std::to_string(r.trial) + ",";
+    for (const auto& [stage, q] : {std::pair<const char*, const Eigen::Matrix3Xd*>{"start", &r.start_m},
+                                   {"final", &r.final_m}}) {
+      for (Eigen::Index n = 0; n < q->cols(); ++n) {
+        // %.17g: positions must round-trip exactly for recomputation.
+        std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g", (*q)(0, n), (*q)(1, n), (*q)(2, n));
+        out << prefix << n + 1 << "," << stage << "," << buf << "\n";
+      }
+    }
+  }
+}
+
+void write_traces_csv(std::ostream& out, const std::vector<TracedRun>& traces) {
+  out << "algorithm,trial,iteration,icn,objective,sinr_nv_db,sinr_zf_db,sinr_mf_db,placement_dist_m,probe_dist_m\n";
+  for (const TracedRun& t : traces) {
+    for (const placement::IterationRecord& r : t.result.trace) {
+      out << to_string(t.algorithm) << "," << t.trial << "," << r.iteration << "," << fmt(r.icn) << ","
+          << fmt(r.objective) << "," << fmt(r.sinr_nv_db) << "," << fmt(r.sinr_zf_db) << ","
+          << fmt(r.sinr_mf_db) << "," << fmt(r.placement_dist_m) << "," << fmt(r.probe_dist_m) << "\n";
+    }
+  }
+}
+
+}  // namespace losmimo::experiment

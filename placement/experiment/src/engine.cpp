@@ -1,0 +1,143 @@
+#include "losmimo/experiment/engine.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <condition_variable>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include "losmimo/common/format.h"
+
+namespace losmimo::experiment {
+
+namespace {
+struct PointTask {
+  const SweepPoints* sweep;
+  int point;
+  const ExperimentExtension* extension;  // nullptr: a built-in sweep
+};
+
+std::vector<PointTask> point_tasks(const ExperimentSettings& s, const ExperimentExtensions& extensions) {
+  std::vector<PointTask> tasks;
+  for (const SweepPoints& sweep : s.sweeps) {
+    const ExperimentExtension* extension = nullptr;
+    for (const ExperimentExtension& e : extensions) {
+      if (e.sweep == sweep.name) extension = &e;
+    }
+    for (int i = 0; i < static_cast<int>(sweep.values.size()); ++i) tasks.push_back({&sweep, i, extension});
+  }
+  return tasks;
+}
+
+}  // namespace
+
+int num_sweep_points(const ExperimentSettings& s) {
+  int n = 0;
+  for (const SweepPoints& sweep : s.sweeps) n += static_cast<int>(sweep.values.size());
+  return n;
+}
+
+ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentExtensions& extensions, int threads,
+                                 const ProgressFn& progress,
+                                 const std::function<void(const std::vector<TrialRecord>&)>& row_sink) {
+  PointSink sink;
+  if (row_sink) sink = [&](int /*point*/, const std::vector<TrialRecord>& rows) { row_sink(rows); };
+  return run_experiment(s, extensions, threads, ExperimentSlice{}, progress, sink);
+}
+
+ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentExtensions& extensions, int threads,
+                                 const ExperimentSlice& slice, const ProgressFn& progress,
+                                 const PointSink& sink) {
+  if (slice.shard_count < 1 || slice.shard_index < 0 || slice.shard_index >= slice.shard_count) {
+    throw std::invalid_argument("run_experiment: shard " + std::to_string(slice.shard_index) + "/" +
+                                std::to_string(slice.shard_count) + " is not in 0..N-1");
+  }
+  const std::vector<PointTask> points = point_tasks(s, extensions);
+  const std::size_t num_extra = extra_metric_names(s, extensions).size();
+  const int trials = s.trials;
+  const int num_threads = std::max(1, threads);
+
+  // This slice's jobs; one slot per (point, trial): results land where their index says,
+  // whatever thread ran them.
+  std::vector<int> jobs;
+  std::vector<int> remaining(points.size(), 0);
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    if (slice.finished_points.count(static_cast<int>(p))) continue;
+    for (int t = 0; t < trials; ++t) {
+      const long long j = static_cast<long long>(p) * trials + t;
+      if (j % slice.shard_count != slice.shard_index) continue;
+      jobs.push_back(static_cast<int>(j));
+      ++remaining[p];
+    }
+  }
+  const int total_jobs = static_cast<int>(jobs.size());
+  std::vector<std::vector<TrialRecord>> slots(points.size() * static_cast<std::size_t>(trials));
+  std::atomic<int> next{0};
+  std::mutex mutex;
+  std::condition_variable point_done;
+  std::exception_ptr failure;
+
+  const auto worker = [&] {
+    for (int i = next++; i < total_jobs; i = next++) {
+      const int job = jobs[i];
+      const PointTask& task = points[job / trials];
+      try {
+        slots[job] = task.extension ? task.extension->run(s, task.point, job % trials)
+                                    : run_trial(s, task.sweep->name, task.point, job % trials);
+        for (TrialRecord& r : slots[job]) r.extra.resize(num_extra, std::nan(""));
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (!failure) failure = std::current_exception();
+      }
+      const std::lock_guard<std::mutex> lock(mutex);
+      --remaining[job / trials];
+      point_done.notify_all();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 0; t < std::min(num_threads, std::max(1, total_jobs)); ++t) pool.emplace_back(worker);
+
+  ExperimentResults results;
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    const auto finished = slice.finished_points.find(static_cast<int>(p));
+    if (finished != slice.finished_points.end()) {
+      results.records.insert(results.records.end(), finished->second.begin(), finished->second.end());
+    } else {
+      {
+        std::unique_lock<std::mutex> lock(mutex);
+        point_done.wait(lock, [&] { return remaining[p] == 0 || failure; });
+        if (failure) break;
+      }
+      std::vector<TrialRecord> point_records;
+      for (int t = 0; t < trials; ++t) {
+        for (TrialRecord& r : slots[p * trials + t]) point_records.push_back(std::move(r));
+      }
+      if (sink) sink(static_cast<int>(p), point_records);
+      results.records.insert(results.records.end(), point_records.begin(), point_records.end());
+    }
+    if (progress) {
+      progress(static_cast<int>(p) + 1, static_cast<int>(points.size()),
+               points[p].sweep->name + " = " + common::format_g(points[p].sweep->values[points[p].point], common::kCsvDigits));
+    }
+  }
+  if (failure) next = total_jobs;  // stop handing out work
+  for (std::thread& t : pool) t.join();
+  if (failure) std::rethrow_exception(failure);
+
+  if (slice.traces) results.traces = traced_runs(s);
+  return results;
+}
+
+std::vector<TracedRun> traced_runs(const ExperimentSettings& s) {
+  std::vector<TracedRun> traces;
+  const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
+  for (const Algorithm a : s.algorithms) {
+    if (!builtin || (a != Algorithm::kGd && a != Algorithm::kBf)) continue;
+    for (int t = 0; t < s.fig1_trials; ++t) traces.push_back({a, t, run_traced(s, a, t)});
+  }
+  return traces;
+}
+
+}  // namespace losmimo::experiment

@@ -1,0 +1,315 @@
+#include "losmimo/common/atomic_file.h"
+#include "losmimo/common/format.h"
+#include "losmimo/common/gnuplot.h"
+#include "losmimo/experiment/report.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+namespace losmimo::experiment {
+
+namespace {
+namespace fs = std::filesystem;
+
+const char* const kWhyDistance =
+    "the paper states neither how it counts distance nor its GD normalisation; here GD steps on "
+    "f / Nr with a 0.5 m cap, BF contracts its step and escapes stalls, and distance is the true "
+    "path flown (README, 'Differences from the paper')";
+const char* const kWhyUra =
+    "the paper's URA assignment and array placement are not fully specified; ours is centred on "
+    "the cube with a minimum-total-distance assignment, and retries toward targets every "
+    "iteration under fresh localization error";
+const char* const kWhySinr =
+    "final SINR depends on where each run stops (ICN 0.95 or the iteration cap) and on the step "
+    "rules above; the paper's curves are single-seed-set averages read off a plot (~0.5 dB)";
+const char* const kWhyIterations =
+    "the paper shows one run; the mean over trials and the robustness changes (stall escape, "
+    "BF contraction) shift the count";
+
+std::string fmt(double v, int precision = 3) { return common::format_fixed(v, precision); }
+
+const SummaryRow* find_row(const std::vector<SummaryRow>& rows, const std::string& sweep, double value,
+                           const std::string& a) {
+  for (const SummaryRow& r : rows) {
+    if (r.sweep == sweep && std::abs(r.value - value) < 1e-12 && r.algorithm == a) return &r;
+  }
+  return nullptr;
+}
+
+
+// Gnuplot data block per algorithm of a sweep: value and (mean, ci) of the given metrics.
+std::string sweep_dat(const std::vector<SummaryRow>& rows, const std::string& sweep, const std::vector<Algorithm>& algorithms,
+                      const std::vector<std::string>& metrics) {
+  std::ostringstream o;
+  for (const Algorithm a : algorithms) {
+    o << "# algorithm " << to_string(a) << ": value";
+    for (const auto& m : metrics) o << " " << m << "_mean " << m << "_ci95";
+    o << "\n";
+    for (const SummaryRow& r : rows) {
+      if (r.sweep != sweep || r.algorithm != to_string(a)) continue;
+      o << r.value;
+      for (const auto& m : metrics) {
+        const Estimate* e = r.metric(m);
+        o << " " << (e && std::isfinite(e->mean) ? e->mean : NAN) << " "
+          << (e && std::isfinite(e->ci95) ? e->ci95 : 0.0);
+      }
+      o << "\n";
+    }
+    o << "\n\n";
+  }
+  return o.str();
+}
+
+std::string gp_header(const std::string& png, const std::string& title, const std::string& xlabel,
+                      const std::string& ylabel) {
+  std::ostringstream o;
+  o << "set terminal pngcairo size 1000,650 enhanced font 'Sans,11'\n"
+    << "set output '" << png << "'\n"
+    << "set title '" << title << "'\nset xlabel '" << xlabel << "'\nset ylabel '" << ylabel << "'\n"
+    << "set grid\nset key outside right\nset datafile missing 'nan'\n";
+  return o.str();
+}
+
+const char* color(Algorithm a) {
+  switch (a) {
+    case Algorithm::kGd: return "#1f77b4";
+    case Algorithm::kBf: return "#d62728";
+    case Algorithm::kUra: return "#2ca02c";
+    case Algorithm::kUraLattice: return "#ff7f0e";
+    case Algorithm::kUraLatticeExact: return "#9467bd";
+    case Algorithm::kRandom: return "#7f7f7f";
+  }
+  return "#000000";
+}
+}  // namespace
+
+std::vector<PaperValue> paper_values() {
+  const std::string R = "random", GD = "gd", BF = "bf", URA = "ura";
+  const std::string L = kSweepSigmaLoc;
+  const std::string T = kSweepSigmaAct;
+  return {
+      {"Sec 4", "random start NV SINR [dB]", L, 0.0, R, "sinr_nv_db", 0.3, 0.5, kWhySinr},
+      {"Sec 4", "random start ZF SINR [dB]", L, 0.0, R, "sinr_zf_db", -5.5, 0.5, kWhySinr},
+      {"Sec 4", "MF SINR [dB]", L, 0.0, R, "sinr_mf_db", 22.0, 0.5, kWhySinr},
+      {"Fig 1", "GD iterations to ICN 0.95", L, 0.0, GD, "iterations", 78, 5, kWhyIterations},
+      {"Fig 1", "BF iterations to ICN 0.95", L, 0.0, BF, "iterations", 63, 5, kWhyIterations},
+      {"Fig 2a", "GD distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, GD, "dist_to_icn050_m", 5.0, 0.5, kWhyDistance},
+      {"Fig 2a", "GD distance to ICN 0.5 [m], sigma_loc 0.18", L, 0.18, GD, "dist_to_icn050_m", 7.5, 0.5, kWhyDistance},
+      {"Fig 2a", "GD distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, GD, "dist_to_icn095_m", 15.3, 0.5, kWhyDistance},
+      {"Fig 2a", "GD distance to ICN 0.95 [m], sigma_loc 0.18", L, 0.18, GD, "dist_to_icn095_m", 19.5, 0.5, kWhyDistance},
+      {"Fig 2a", "BF distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, BF, "dist_to_icn050_m", 8.3, 0.5, kWhyDistance},
+      {"Fig 2a", "BF distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, BF, "dist_to_icn095_m", 20.2, 0.5, kWhyDistance},
+      {"Fig 2a", "URA distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, URA, "dist_to_icn050_m", 10.3, 0.5, kWhyUra},
+      {"Fig 2a", "URA distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, URA, "dist_to_icn095_m", 10.3, 0.5, kWhyUra},
+      {"Fig 2a", "URA distance to ICN 0.95 [m], sigma_loc 0.18", L, 0.18, URA, "dist_to_icn095_m", 30.0, 0.5, kWhyUra},
+      {"Fig 2b", "BF final NV SINR [dB], sigma_loc 0.18", L, 0.18, BF, "sinr_nv_db", 22.0, 0.5, kWhySinr},
+      {"Fig 2b", "GD final NV SINR [dB], sigma_loc 0", L, 0.0, GD, "sinr_nv_db", 20.5, 0.5, kWhySinr},
+      {"Fig 2b", "GD final NV SINR [dB], sigma_loc 0.18", L, 0.18, GD, "sinr_nv_db", 16.5, 0.5, kWhySinr},
+      {"Fig 2b", "GD final ZF SINR [dB], sigma_loc 0.18", L, 0.18, GD, "sinr_zf_db", 19.0, 0.5, kWhySinr},
+      {"Fig 2b", "URA final NV SINR [dB], sigma_loc 0", L, 0.0, URA, "sinr_nv_db", 22.0, 0.5, kWhyUra},
+      {"Fig 2b", "URA final NV SINR [dB], sigma_loc 0.18", L, 0.18, URA, "sinr_nv_db", 15.5, 0.5, kWhyUra},
+      {"Fig 2b", "URA final ZF SINR [dB], sigma_loc 0.18", L, 0.18, URA, "sinr_zf_db", 22.0, 0.5, kWhyUra},
+      {"Fig 3", "GD final NV SINR [dB], sigma_act 0.18", T, 0.18, GD, "sinr_nv_db", 15.5, 0.5, kWhySinr},
+      {"Fig 3", "GD final ZF SINR [dB], sigma_act 0.18", T, 0.18, GD, "sinr_zf_db", 21.0, 0.5, kWhySinr},
+      {"Fig 3", "BF final NV SINR [dB], sigma_act 0", T, 0.0, BF, "sinr_nv_db", 22.0, 0.5, kWhySinr},
+      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.02", T, 0.02, BF, "sinr_nv_db", 12.3, 0.5, kWhySinr},
+      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.04", T, 0.04, BF, "sinr_nv_db", 3.0, 0.5, kWhySinr},
+      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.06", T, 0.06, BF, "sinr_nv_db", 1.5, 0.5, kWhySinr},
+  };
+}
+
+std::string describe(const RunTiming& t) {
+  std::ostringstream o;
+  const auto threads = [](int n) { return std::to_string(n) + (n == 1 ? " thread" : " threads"); };
+  if (t.shards <= 0) {
+    o << threads(t.threads) << ", " << fmt(t.wall_s, 1) << " s wall";
+    return o.str();
+  }
+  o << "merged from " << t.shards << (t.shards == 1 ? " shard" : " shards");
+  if (t.timed_shards == t.shards) {
+    o << " of " << (t.min_shard_threads == t.max_shard_threads
+                        ? threads(t.min_shard_threads)
+                        : std::to_string(t.min_shard_threads) + " to " + threads(t.max_shard_threads))
+      << ": slowest " << fmt(t.slowest_shard_wall_s, 1) << " s wall, " << fmt(t.shards_wall_s, 1)
+      << " s wall summed over shards";
+  } else {
+    o << " (their timing was not recorded)";
+  }
+  o << "; merge " << fmt(t.wall_s, 1) << " s";
+  return o.str();
+}
+
+ReportOutcome write_figures_and_report(const ExperimentSettings& s, const ExperimentExtensions& extensions,
+                                       const ExperimentResults& results,
+                                       const std::vector<SummaryRow>& rows, const std::string& out_dir,
+                                       const RunTiming& timing) {
+  ReportOutcome outcome;
+  const fs::path dir(out_dir);
+  std::vector<Algorithm> movers;
+  for (const Algorithm a : s.algorithms) {
+    if (a != Algorithm::kRandom) movers.push_back(a);
+  }
+
+  // Fig 1: traces.
+  std::vector<std::string> stems;
+  if (!results.traces.empty()) {
+    stems = {"fig1a", "fig1b"};
+    std::ostringstream dat;
+    std::vector<Algorithm> traced;
+    for (const TracedRun& t : results.traces) {
+      if (t.trial != 0) continue;
+      traced.push_back(t.algorithm);
+      dat << "# " << to_string(t.algorithm) << ": iteration icn sinr_nv_db sinr_zf_db sinr_mf_db\n";
+      for (const placement::IterationRecord& r : t.result.trace) {
+        dat << r.iteration << " " << r.icn << " " << r.sinr_nv_db << " " << r.sinr_zf_db << " " << r.sinr_mf_db << "\n";
+      }
+      dat << "\n\n";
+    }
+    common::write_file_atomically((dir / "fig1.dat").string(), dat.str());
+    std::ostringstream a, b;
+    a << gp_header("fig1a.png", "Fig 1a: ICN against iteration (no errors)", "iteration", "ICN") << "set yrange [0:1]\nplot ";
+    b << gp_header("fig1b.png", "Fig 1b: SINR of stream 1 against iteration (NV solid, ZF dashed, MF dash-dot)",
+                   "iteration", "SINR [dB]")
+      << "plot ";
+    for (std::size_t i = 0; i < traced.size(); ++i) {
+      const std::string c = color(traced[i]);
+      const std::string name = to_string(traced[i]);
+      a << (i ? ", " : "") << "'fig1.dat' index " << i << " using 1:2 with lines lw 2 lc rgb '" << c
+        << "' title '" << name << "' noenhanced";
+      b << (i ? ", " : "") << "'fig1.dat' index " << i << " using 1:3 with lines lw 2 dt 1 lc rgb '" << c
+        << "' title '" << name << " NV' noenhanced, '' index " << i << " using 1:4 with lines lw 2 dt 2 lc rgb '" << c
+        << "' title '" << name << " ZF' noenhanced, '' index " << i << " using 1:5 with lines lw 1 dt 4 lc rgb '#9467bd' title '"
+        << name << " MF'";
+    }
+    common::write_file_atomically((dir / "fig1a.gp").string(), a.str() + "\n");
+    common::write_file_atomically((dir / "fig1b.gp").string(), b.str() + "\n");
+  }
+
+  // Fig 2a: distances against sigma_loc.
+  if (s.sweep(kSweepSigmaLoc)) {
+    common::write_file_atomically((dir / "fig2a.dat").string(),
+                          sweep_dat(rows, kSweepSigmaLoc, movers, {"dist_to_icn050_m", "dist_to_icn095_m"}));
+    std::ostringstream g;
+    g << gp_header("fig2a.png", "Fig 2a: mean distance per UAV to ICN 0.5 (solid) and 0.95 (dotted)",
+                   "localization error sigma_{loc} [m]", "distance per UAV [m]")
+      << "plot ";
+    for (std::size_t i = 0; i < movers.size(); ++i) {
+      const std::string c = color(movers[i]);
+      const std::string name = to_string(movers[i]);
+      g << (i ? ", " : "") << "'fig2a.dat' index " << i << " using 1:2:3 with yerrorlines lw 2 dt 1 lc rgb '" << c
+        << "' title '" << name << " ICN 0.5' noenhanced, '' index " << i << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '"
+        << c << "' title '" << name << " ICN 0.95' noenhanced";
+    }
+    common::write_file_atomically((dir / "fig2a.gp").string(), g.str() + "\n");
+  }
+
+  // Fig 2b and Fig 3: final SINR.
+  if (s.sweep(kSweepSigmaLoc)) stems.push_back("fig2a");
+  for (const auto& [sweep, stem, xlabel] :
+       {std::tuple<std::string, std::string, std::string>{kSweepSigmaLoc, "fig2b", "localization error sigma_{loc} [m]"},
+        {kSweepSigmaAct, "fig3", "actuation error sigma_{act} [m]"}}) {
+    if (!s.sweep(sweep)) continue;
+    stems.push_back(stem);
+    common::write_file_atomically((dir / (stem + ".dat")).string(),
+                          sweep_dat(rows, sweep, s.algorithms, {"sinr_nv_db", "sinr_zf_db", "sinr_mf_db"}));
+    std::ostringstream g;
+    g << gp_header(stem + ".png",
+                   (stem == "fig2b" ? "Fig 2b" : "Fig 3") +
+                       std::string(": final SINR of stream 1 (NV solid, ZF dotted, MF dash-dot purple)"),
+                   xlabel, "SINR [dB]")
+      << "plot ";
+    for (std::size_t i = 0; i < s.algorithms.size(); ++i) {
+      const std::string c = color(s.algorithms[i]);
+      const std::string name = to_string(s.algorithms[i]);
+      g << (i ? ", " : "") << "'" << stem << ".dat' index " << i << " using 1:2:3 with yerrorlines lw 2 dt 1 lc rgb '"
+        << c << "' title '" << name << " NV' noenhanced, '' index " << i << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '"
+        << c << "' title '" << name << " ZF' noenhanced";
+      if (i == 0) g << ", '' index 0 using 1:6 with lines lw 1 dt 4 lc rgb '#9467bd' title 'MF'";
+    }
+    common::write_file_atomically((dir / (stem + ".gp")).string(), g.str() + "\n");
+  }
+
+  if (s.plots) {
+    for (std::string& w : common::render_gnuplot(
+             dir.string(), stems,
+             "the fig*.gp scripts were written but not rendered (apt-get install gnuplot-nox, then run gnuplot "
+             "fig*.gp in the output folder)")) {
+      outcome.warnings.push_back(std::move(w));
+    }
+  }
+  for (const ExperimentExtension& e : extensions) {
+    if (!s.sweep(e.sweep) || !e.figures) continue;
+    for (std::string& w : e.figures(s, rows, out_dir)) outcome.warnings.push_back(std::move(w));
+  }
+
+  // report.md
+  std::ostringstream md;
+  md << "# losmimo-experiment report\n\n"
+     << s.trials << " random starts per sweep point, seed " << s.seed << ", " << describe(timing)
+     << ". Configuration: `config.ini`. Means with 95% confidence half-widths "
+     << "(Student t) over the trials where the quantity is defined (n). A value agrees with the "
+     << "paper when it is within the CI plus the resolution at which the paper's plot can be read "
+     << "(0.5 dB, 0.5 m, 5 iterations).\n\n"
+     ;
+  if (!stems.empty()) {
+    md << "Figures:";
+    for (const std::string& stem : stems) md << " ![" << stem << "](" << stem << ".png)";
+    md << "\n\n";
+  }
+  std::vector<std::string> differences;
+  const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
+  if (builtin) md << "| figure | quantity | paper | measured | 95% CI | n | agrees |\n|---|---|---|---|---|---|---|\n";
+  for (const PaperValue& p : builtin ? paper_values() : std::vector<PaperValue>{}) {
+    if (!s.sweep(p.sweep)) continue;
+    const SummaryRow* row = find_row(rows, p.sweep, p.value, p.algorithm);
+    const Estimate* e = row ? row->metric(p.metric) : nullptr;
+    if (!e) {
+      md << "| " << p.figure << " | " << p.quantity << " | " << fmt(p.paper, 1) << " | not run | | | |\n";
+      continue;
+    }
+    if (e->n == 0) {
+      md << "| " << p.figure << " | " << p.quantity << " | " << fmt(p.paper, 1) << " | never reached in "
+         << row->trials << " trials | | 0 | **no** |\n";
+      differences.push_back(p.figure + ", " + p.quantity + ": paper " + fmt(p.paper, 1) +
+                            ", never reached here within the iteration cap. Why: " + p.why + ".");
+      continue;
+    }
+    const double ci = std::isfinite(e->ci95) ? e->ci95 : 0.0;
+    const bool agrees = std::abs(e->mean - p.paper) <= ci + p.resolution;
+    md << "| " << p.figure << " | " << p.quantity << " | " << fmt(p.paper, 1) << " | " << fmt(e->mean, 2) << " | ±"
+       << fmt(ci, 2) << " | " << e->n << " | " << (agrees ? "yes" : "**no**") << " |\n";
+    if (!agrees) {
+      differences.push_back(p.figure + ", " + p.quantity + ": paper " + fmt(p.paper, 1) + ", measured " +
+                            fmt(e->mean, 2) + " ± " + fmt(ci, 2) + ". Why: " + p.why + ".");
+    }
+  }
+  // The abstract's claims: capacity ratio and SINR gain over random placement at the start.
+  const SweepPoints* loc = s.sweep(kSweepSigmaLoc);
+  const SummaryRow* random0 = loc ? find_row(rows, kSweepSigmaLoc, loc->values.front(), "random") : nullptr;
+  if (random0) {
+    md << "\n## The abstract's claims (at sigma_loc = " << loc->values.front() << ")\n\n"
+       << "| algorithm | NV sum rate / random | NV SINR gain over random [dB] |\n|---|---|---|\n";
+    const Estimate* r_rate = random0->metric("sum_rate_nv_bps_hz");
+    const Estimate* r_sinr = random0->metric("sinr_nv_db");
+    for (const Algorithm a : movers) {
+      const SummaryRow* row = find_row(rows, kSweepSigmaLoc, loc->values.front(), to_string(a));
+      if (!row) continue;
+      md << "| " << to_string(a) << " | " << fmt(row->metric("sum_rate_nv_bps_hz")->mean / r_rate->mean, 2)
+         << "x (paper: up to 6x) | " << fmt(row->metric("sinr_nv_db")->mean - r_sinr->mean, 1)
+         << " (paper: >= 15) |\n";
+    }
+  }
+  if (builtin) md << "\n## Differences larger than the confidence interval\n\n";
+  if (builtin && differences.empty()) md << "None.\n";
+  for (const std::string& d : differences) md << "- " << d << "\n";
+  for (const ExperimentExtension& e : extensions) {
+    if (s.sweep(e.sweep) && e.report_section) md << "\n" << e.report_section(s, rows);
+  }
+  common::write_file_atomically((dir / "report.md").string(), md.str());
+  return outcome;
+}
+
+}  // namespace losmimo::experiment

@@ -1,0 +1,84 @@
+#include "losmimo/common/ini_config.h"
+#include "losmimo/experiment/run_folder.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "losmimo/common/atomic_file.h"
+#include "losmimo/common/input_error.h"
+#include "losmimo/experiment/csv.h"
+#include "losmimo/experiment/records.h"
+#include "losmimo/experiment/report.h"
+#include "losmimo/experiment/summary.h"
+
+namespace losmimo::experiment {
+
+namespace fs = std::filesystem;
+using common::InputError;
+
+std::string results_config(ExperimentSettings s) {
+  s.threads = 0;
+  s.plots = true;
+  s.config.set("experiment", "threads", "0");
+  s.config.set("experiment", "plots", "true");
+  return to_ini(s);
+}
+
+std::string first_difference(const std::string& a, const std::string& b) {
+  std::istringstream ia(a), ib(b);
+  std::string la, lb;
+  while (true) {
+    const bool ga = static_cast<bool>(std::getline(ia, la));
+    const bool gb = static_cast<bool>(std::getline(ib, lb));
+    if (!ga && !gb) return "";
+    if (!ga) la = "(nothing)";
+    if (!gb) lb = "(nothing)";
+    if (la != lb) return "'" + la + "' vs '" + lb + "'";
+  }
+}
+
+ExperimentSettings load_stored_settings(const std::string& config_ini, const ExperimentExtensions& extensions) {
+  if (!fs::exists(config_ini)) throw common::InputError(config_ini + ": missing");
+  return load_experiment_settings(common::IniConfig::from_file(config_ini), extensions);
+}
+
+std::vector<std::string> finish_outputs(const ExperimentSettings& settings, const ExperimentExtensions& extensions,
+                                        const ExperimentResults& results, const std::string& out_dir,
+                                        const RunTiming& timing, bool trial_files_written) {
+  const fs::path dir(out_dir);
+  const std::vector<std::string> extra = extra_metric_names(settings, extensions);
+  if (!trial_files_written) {
+    common::write_stream_atomically((dir / "trials.csv").string(), [&](std::ostream& o) {
+      write_trials_header(o, extra);
+      write_trials_rows(o, results.records, extra.size());
+    });
+    common::write_stream_atomically((dir / "positions.csv").string(), [&](std::ostream& o) {
+      write_positions_header(o);
+      write_positions_rows(o, results.records);
+    });
+  }
+  std::ostringstream traces, summary;
+  write_traces_csv(traces, results.traces);
+  common::write_file_atomically((dir / "traces.csv").string(), traces.str());
+  const std::vector<SummaryRow> rows = summarize(results.records, extra);
+  write_summary_csv(summary, rows);
+  common::write_file_atomically((dir / "summary.csv").string(), summary.str());
+  return write_figures_and_report(settings, extensions, results, rows, dir.string(), timing).warnings;
+}
+
+Checkpoint read_checkpoint(const std::string& dir) {
+  const fs::path path = fs::path(dir) / "records.partial";
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw common::InputError(path.string() + ": missing: nothing to resume (was the run already complete?)");
+  const RecordLines lines = parse_record_lines(in, path.string(), true);
+  Checkpoint c;
+  for (std::size_t i = 0; i < lines.done.size(); ++i) {
+    if (lines.done[i] != static_cast<int>(i)) throw common::InputError(path.string() + ": points not finished in order");
+    const auto it = lines.points.find(lines.done[i]);
+    c.finished[lines.done[i]] = it == lines.points.end() ? std::vector<TrialRecord>{} : it->second;
+  }
+  return c;
+}
+
+}  // namespace losmimo::experiment

@@ -1,0 +1,117 @@
+#include "losmimo/experiment/summary.h"
+
+#include <algorithm>
+#include <cmath>
+#include <ostream>
+
+#include "losmimo/common/format.h"
+
+namespace losmimo::experiment {
+
+namespace {
+std::string fmt(double v) { return common::format_g(v, common::kCsvDigits); }
+}  // namespace
+
+Estimate estimate(const std::vector<double>& values) {
+  Estimate e;
+  double sum = 0.0;
+  for (const double v : values) {
+    if (std::isfinite(v)) {
+      sum += v;
+      ++e.n;
+    }
+  }
+  if (e.n == 0) return {std::nan(""), std::nan(""), 0};
+  e.mean = sum / e.n;
+  if (e.n < 2) {
+    e.ci95 = std::nan("");
+    return e;
+  }
+  double ss = 0.0;
+  for (const double v : values) {
+    if (std::isfinite(v)) ss += (v - e.mean) * (v - e.mean);
+  }
+  const double sd = std::sqrt(ss / (e.n - 1));
+  // Student t quantile 0.975: exact for 1 and 2 degrees of freedom, Cornish-Fisher beyond
+  // (within 0.3% from 3 degrees of freedom on).
+  const int dof = e.n - 1;
+  const double z = 1.959963984540054;
+  double t = z + (z * z * z + z) / (4.0 * dof) +
+             (5 * std::pow(z, 5) + 16 * z * z * z + 3 * z) / (96.0 * dof * dof);
+  if (dof == 1) t = 12.706204736;
+  if (dof == 2) t = 4.302652730;
+  e.ci95 = t * sd / std::sqrt(static_cast<double>(e.n));
+  return e;
+}
+
+std::vector<std::string> summary_metric_names() {
+  return {"final_icn",       "dist_to_icn050_m", "dist_to_icn095_m",   "dist_total_m",
+          "probe_dist_m",    "iterations",       "sinr_nv_db",         "sinr_zf_db",
+          "sinr_mf_db",      "mean_sinr_nv_db",  "mean_sinr_zf_db",    "mean_sinr_mf_db",
+          "sum_rate_nv_bps_hz", "sum_rate_zf_bps_hz"};
+}
+
+const Estimate* SummaryRow::metric(const std::string& name) const {
+  for (const auto& [n, e] : metrics) {
+    if (n == name) return &e;
+  }
+  return nullptr;
+}
+
+std::vector<SummaryRow> summarize(const std::vector<TrialRecord>& records, const std::vector<std::string>& extra) {
+  std::vector<SummaryRow> rows;
+  std::size_t i = 0;
+  while (i < records.size()) {
+    // Records of one point are contiguous; group each algorithm's trials.
+    std::size_t j = i;
+    while (j < records.size() && records[j].sweep == records[i].sweep && records[j].value == records[i].value) ++j;
+    std::vector<std::string> order;
+    for (std::size_t k = i; k < j; ++k) {
+      if (std::find(order.begin(), order.end(), records[k].algorithm) == order.end()) order.push_back(records[k].algorithm);
+    }
+    std::vector<std::string> names = summary_metric_names();
+    names.insert(names.end(), extra.begin(), extra.end());
+    for (const std::string& a : order) {
+      SummaryRow row{records[i].sweep, records[i].value, a, 0, 0.0, {}};
+      std::vector<std::vector<double>> columns(names.size());
+      int converged = 0;
+      for (std::size_t k = i; k < j; ++k) {
+        const TrialRecord& r = records[k];
+        if (r.algorithm != a) continue;
+        ++row.trials;
+        converged += r.converged;
+        const double v[] = {r.final_icn,       r.dist_to_icn050_m, r.dist_to_icn095_m,  r.dist_total_m,
+                            r.probe_dist_m,    static_cast<double>(r.iterations), r.sinr_nv_db, r.sinr_zf_db,
+                            r.sinr_mf_db,      r.mean_sinr_nv_db,  r.mean_sinr_zf_db,   r.mean_sinr_mf_db,
+                            r.sum_rate_nv_bps_hz, r.sum_rate_zf_bps_hz};
+        constexpr std::size_t kBuiltIn = sizeof v / sizeof v[0];
+        for (std::size_t c = 0; c < kBuiltIn; ++c) columns[c].push_back(v[c]);
+        for (std::size_t c = 0; c < extra.size(); ++c) {
+          columns[kBuiltIn + c].push_back(c < r.extra.size() ? r.extra[c] : std::nan(""));
+        }
+      }
+      row.converged_fraction = row.trials ? static_cast<double>(converged) / row.trials : 0.0;
+      for (std::size_t c = 0; c < columns.size(); ++c) row.metrics.emplace_back(names[c], estimate(columns[c]));
+      rows.push_back(std::move(row));
+    }
+    i = j;
+  }
+  return rows;
+}
+
+void write_summary_csv(std::ostream& out, const std::vector<SummaryRow>& rows) {
+  out << "sweep,value,algorithm,trials,converged_fraction";
+  const std::vector<std::pair<std::string, Estimate>> no_metrics;
+  for (const auto& [m, e] : rows.empty() ? no_metrics : rows.front().metrics) {
+    out << "," << m << "_mean," << m << "_ci95," << m << "_n";
+  }
+  out << "\n";
+  for (const SummaryRow& r : rows) {
+    out << r.sweep << "," << fmt(r.value) << "," << r.algorithm << "," << r.trials << ","
+        << fmt(r.converged_fraction);
+    for (const auto& [name, e] : r.metrics) out << "," << fmt(e.mean) << "," << fmt(e.ci95) << "," << e.n;
+    out << "\n";
+  }
+}
+
+}  // namespace losmimo::experiment

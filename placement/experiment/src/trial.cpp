@@ -1,0 +1,135 @@
+#include "losmimo/experiment/trial.h"
+
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include "losmimo/placement/metrics.h"
+#include "losmimo/placement/ura.h"
+
+namespace losmimo::experiment {
+
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::unique_ptr<placement::Planner> make_planner(const placement::PlacementSettings& p, Algorithm a) {
+  switch (a) {
+    case Algorithm::kGd: return std::make_unique<placement::GradientDescentPlanner>(p.scenario, p.gd);
+    case Algorithm::kBf: return std::make_unique<placement::BruteForcePlanner>(p.scenario, p.bf);
+    case Algorithm::kUra: return std::make_unique<placement::UraPlanner>(p.scenario, placement::UraVariant::kRigid);
+    case Algorithm::kUraLattice: return std::make_unique<placement::UraPlanner>(p.scenario, placement::UraVariant::kLattice);
+    case Algorithm::kUraLatticeExact:
+      return std::make_unique<placement::UraPlanner>(p.scenario, placement::UraVariant::kLatticeExact);
+    case Algorithm::kRandom: break;
+  }
+  return nullptr;
+}
+
+// Placement without motion: the start itself, evaluated like any other result.
+class StayPlanner : public placement::Planner {
+ public:
+  std::string name() const override { return "random"; }
+  void iterate(placement::Swarm& /*swarm*/, int /*iteration*/) override {}
+};
+
+double mean_db(const Eigen::VectorXd& linear) {
+  double sum = 0.0;
+  for (Eigen::Index k = 0; k < linear.size(); ++k) sum += placement::to_db(linear(k));
+  return sum / linear.size();
+}
+
+std::uint64_t fnv1a(const std::string& text) {
+  std::uint64_t h = 14695981039346656037ULL;
+  for (const unsigned char c : text) h = (h ^ c) * 1099511628211ULL;
+  return h;
+}
+
+placement::RunResult run_algorithm(const placement::PlacementSettings& p, Algorithm a, const Eigen::Matrix3Xd& start, std::uint64_t seed,
+                        placement::RunOptions run) {
+  const placement::ChannelModel model(p.scenario);
+  placement::Swarm swarm(model, start, p.errors, seed);
+  std::unique_ptr<placement::Planner> planner = make_planner(p, a);
+  StayPlanner stay;
+  if (!planner) run.max_iterations = 0;
+  return placement::run_placement(planner ? *planner : stay, swarm, run);
+}
+}  // namespace
+
+std::uint64_t trial_start_seed(const ExperimentSettings& s, int trial) {
+  return derive_seed(s.seed, {0, static_cast<std::uint64_t>(trial)});
+}
+
+Eigen::Matrix3Xd trial_start_positions_m(const ExperimentSettings& s, int trial) {
+  std::mt19937_64 rng(trial_start_seed(s, trial));
+  return placement::random_start_positions_m(s.placement.scenario, rng);
+}
+
+std::uint64_t trial_seed(const ExperimentSettings& s, const std::string& sweep, int point, int trial) {
+  return derive_seed(s.seed, {1, fnv1a(sweep), static_cast<std::uint64_t>(point), static_cast<std::uint64_t>(trial)});
+}
+
+TrialRecord make_record(const ExperimentSettings& s, const std::string& sweep, int point, int trial,
+                        const std::string& algorithm, const placement::RunResult& r) {
+  const SweepPoints* points = s.sweep(sweep);
+  TrialRecord rec;
+  rec.sweep = sweep;
+  rec.value = points ? points->values.at(point) : kNaN;
+  rec.algorithm = algorithm;
+  rec.trial = trial;
+  rec.seed = trial_seed(s, sweep, point, trial);
+  rec.start_seed = trial_start_seed(s, trial);
+  rec.iterations = r.iterations;
+  rec.converged = r.converged();
+  rec.status = to_string(r.status);
+  const placement::Scenario& scenario = s.placement.scenario;
+  const placement::LinkMetrics m = placement::evaluate_link(placement::ChannelModel(scenario).matrix(r.final_m), scenario.noise_variance());
+  rec.final_icn = m.icn;
+  rec.dist_to_icn050_m = r.icn050.reached ? r.icn050.placement_dist_m : kNaN;
+  rec.dist_to_icn095_m = r.icn095.reached ? r.icn095.placement_dist_m : kNaN;
+  rec.dist_placement_m = r.placement_dist_m.mean();
+  rec.probe_dist_m = r.probe_dist_m.mean();
+  rec.dist_total_m = rec.dist_placement_m + rec.probe_dist_m;
+  rec.sinr_nv_db = placement::to_db(m.sinr.nv(0));
+  rec.sinr_zf_db = placement::to_db(m.sinr.zf(0));
+  rec.sinr_mf_db = placement::to_db(m.sinr.mf(0));
+  rec.mean_sinr_nv_db = mean_db(m.sinr.nv);
+  rec.mean_sinr_zf_db = mean_db(m.sinr.zf);
+  rec.mean_sinr_mf_db = mean_db(m.sinr.mf);
+  rec.sum_rate_nv_bps_hz = m.sum_rate_nv_bps_hz;
+  rec.sum_rate_zf_bps_hz = m.sum_rate_zf_bps_hz;
+  rec.start_m = r.start_m;
+  rec.final_m = r.final_m;
+  return rec;
+}
+
+std::vector<TrialRecord> run_trial(const ExperimentSettings& s, const std::string& sweep, int point, int trial) {
+  placement::PlacementSettings p = s.placement;
+  const double value = s.sweep(sweep)->values.at(point);
+  if (sweep == kSweepSigmaLoc) {
+    p.errors.sigma_loc_m = value;
+  } else if (sweep == kSweepSigmaAct) {
+    p.errors.sigma_act_m = value;
+  } else {
+    throw std::invalid_argument("run_trial: '" + sweep + "' is not a built-in sweep");
+  }
+  const Eigen::Matrix3Xd start = trial_start_positions_m(s, trial);
+  const std::uint64_t seed = trial_seed(s, sweep, point, trial);
+  placement::RunOptions run = p.run;
+  run.full_icn_trace = false;  // only milestones and the final positions are recorded
+  std::vector<TrialRecord> records;
+  for (const Algorithm a : s.algorithms) {
+    records.push_back(make_record(s, sweep, point, trial, to_string(a), run_algorithm(p, a, start, seed, run)));
+  }
+  return records;
+}
+
+placement::RunResult run_traced(const ExperimentSettings& s, Algorithm algorithm, int trial) {
+  placement::PlacementSettings p = s.placement;
+  p.errors = placement::ErrorModel{};
+  placement::RunOptions run = p.run;
+  run.trace_sinr = true;
+  return run_algorithm(p, algorithm, trial_start_positions_m(s, trial),
+                       derive_seed(s.seed, {2, static_cast<std::uint64_t>(trial)}), run);
+}
+
+}  // namespace losmimo::experiment

@@ -1,0 +1,34 @@
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "losmimo/common/ini_config.h"
+
+namespace {
+// Runs f, expecting an InputError whose message contains every fragment.
+template <typename F>
+void expect_input_error(F&& f, const std::vector<std::string>& fragments) {
+  try {
+    f();
+    FAIL() << "no InputError";
+  } catch (const losmimo::common::InputError& e) {
+    for (const auto& frag : fragments) EXPECT_NE(std::string(e.what()).find(frag), std::string::npos) << e.what();
+  }
+}
+}  // namespace
+
+TEST(IniConfig, ParsesSectionsKeysAndComments) {
+  const auto cfg = losmimo::common::IniConfig::from_string("# top\n[scenario]\nsnr_db = 7.5 ; trailing\n\n[errors]\nsigma_loc_m=0.1\n");
+  EXPECT_DOUBLE_EQ(cfg.get_double("scenario", "snr_db", 0.0), 7.5);
+  EXPECT_DOUBLE_EQ(cfg.get_double("errors", "sigma_loc_m", 0.0), 0.1);
+  EXPECT_DOUBLE_EQ(cfg.get_double("errors", "sigma_act_m", 0.25), 0.25);
+}
+
+TEST(IniConfig, MalformedLines_NameTheLine) {
+  expect_input_error([] { losmimo::common::IniConfig::from_string("[scenario]\nsnr_db 10\n", "a.ini"); }, {"a.ini:2", "key = value"});
+  expect_input_error([] { losmimo::common::IniConfig::from_string("snr_db = 10\n", "b.ini"); }, {"b.ini:1", "outside"});
+  expect_input_error([] { losmimo::common::IniConfig::from_string("[s]\nk=1\nk=2\n", "c.ini"); }, {"c.ini:3", "duplicate"});
+  expect_input_error([] { losmimo::common::IniConfig::from_string("[scen\n", "d.ini"); }, {"d.ini:1"});
+  expect_input_error([] { losmimo::common::IniConfig::from_file("/nonexistent/x.ini"); }, {"/nonexistent/x.ini", "cannot open"});
+}

@@ -1,0 +1,55 @@
+#pragma once
+// Shared fixtures of the rawlog tests: a small mission and file helpers.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "losmimo/common/ini_config.h"
+#include "losmimo/rawlog/log.h"
+#include "losmimo/rawlog/mission.h"
+
+namespace losmimo::test_support {
+
+// 2 x 2 BS, 4 UAVs, 12 iterations at most; EKF + Ceres (CSI from the loop), UAV 1 without
+// beacon for epochs 3-6: every stream and an outage, in well under a second. `closed_loop_keys`:
+// further "key = value" lines of [closed_loop] (e.g. "faults = unresponsive:2:4\n").
+inline rawlog::MissionConfig small_mission(const std::string& filter = "ekf", bool refine = true,
+                                   const std::string& closed_loop_keys = "") {
+  common::IniConfig ini = common::IniConfig::from_string(
+      "[scenario]\nbs_rows = 2\nbs_cols = 2\nnum_uavs = 4\n"
+      "[errors]\nsigma_act_m = 0.02\n"
+      "[placement]\nmax_iterations = 12\n"
+      "[closed_loop]\nfilter = " + filter + "\nrefine = " + (refine ? "true" : "false") +
+      "\nnum_particles = 300\noutages = 1:3:4\n" + closed_loop_keys +
+      "[mission]\nseed = 11\nstart_seed = 5\n", "small_mission");
+  return rawlog::load_mission_config(ini);
+}
+
+inline rawlog::MissionLog load_log(const std::string& path) {
+  rawlog::RawlogReader reader = rawlog::RawlogReader::open_file(path);
+  return rawlog::load_mission_log(reader);
+}
+
+inline std::string temp_path(const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "losmimo_rawlog_tests";
+  std::filesystem::create_directories(dir);
+  return (dir / name).string();
+}
+
+inline std::string read_file_bytes(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+inline void write_file_bytes(const std::string& path, const std::string& bytes) {
+  std::ofstream f(path, std::ios::binary);
+  f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+inline std::string source_path(const std::string& relative) {
+  return std::string(LOSMIMO_SOURCE_DIR) + "/" + relative;
+}
+
+}  // namespace losmimo::test_support
