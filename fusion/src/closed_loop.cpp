@@ -1,3 +1,4 @@
+#include "losmimo/common/seed.h"
 #include "losmimo/fusion/closed_loop.h"
 
 #include <Eigen/Cholesky>
@@ -14,19 +15,12 @@ namespace losmimo::fusion {
 
 namespace {
 
-// SplitMix64 (Steele, Lea, Flood 2014): decorrelates the streams derived from one run seed.
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ULL;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
-  return x ^ (x >> 31);
-}
-
 enum class Stream : std::uint64_t { kSwarm = 1, kSimulator = 2, kFilter = 3, kCsi = 4 };
 
+// A per-UAV stream of the run (common/seed.h; salt 0 keeps recorded missions' seeds).
 std::uint64_t derive_seed(std::uint64_t run_seed, Stream stream, int uav) {
   const std::uint64_t tag = (static_cast<std::uint64_t>(stream) << 32) | static_cast<std::uint32_t>(uav);
-  return splitmix64(splitmix64(run_seed) ^ splitmix64(tag));
+  return common::derive_seed(run_seed, {tag}, 0);
 }
 
 [[noreturn]] void fail(const std::string& field, double value, const std::string& rule) {

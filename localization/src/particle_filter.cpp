@@ -1,3 +1,4 @@
+#include "losmimo/common/seed.h"
 #include "losmimo/localization/particle_filter.h"
 
 #include <mrpt/bayes/CParticleFilter.h>
@@ -45,11 +46,8 @@ void moments(const ParticleData::CParticleList& particles, Eigen::Vector3d& mean
 }  // namespace
 
 std::uint32_t fold_seed(std::uint64_t seed) {
-  // splitmix64 finaliser: nearby seeds (trial 0, 1, 2...) give unrelated generator states.
-  std::uint64_t z = seed + 0x9E3779B97F4A7C15ULL;
-  z = (z ^ (z >> 30U)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27U)) * 0x94D049BB133111EBULL;
-  z ^= z >> 31U;
+  // splitmix64: nearby seeds (trial 0, 1, 2...) give unrelated generator states.
+  const std::uint64_t z = common::splitmix64(seed);
   return static_cast<std::uint32_t>(z ^ (z >> 32U));
 }
 

@@ -13,6 +13,7 @@
 
 #include "losmimo/apps/exit_codes.h"
 #include "losmimo/common/atomic_file.h"
+#include "losmimo/common/format.h"
 #include "losmimo/common/ini_config.h"
 #include "losmimo/common/input_error.h"
 #include "losmimo/experiment/csv.h"
@@ -216,7 +217,7 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
             << " with `losmimo-experiment merge`\n[shard]\nindex = " << slice.shard_index
             << "\ncount = " << slice.shard_count << "\n"
             << "# this shard's run, reported by the merge\nthreads = " << threads << "\nwall_s = "
-            << std::setprecision(17) << wall_s << "\n";
+            << common::format_g(wall_s, common::kExactDigits) << "\n";
       write_file_atomically((dir / "shard.ini").string(), shard.str());
       out << "losmimo-experiment: shard " << slice.shard_index << "/" << slice.shard_count << ": "
           << results.records.size() << " trial rows, " << describe({wall_s, threads}) << "; records in "

@@ -1,3 +1,5 @@
+#include "losmimo/common/format.h"
+#include "losmimo/common/hash.h"
 #include "losmimo/rawlog/format.h"
 
 #include <cctype>
@@ -42,23 +44,8 @@ std::optional<UavLabel> parse_uav_label(const std::string& label) {
   return out;
 }
 
-std::uint64_t fnv1a64(const void* data, std::size_t size, std::uint64_t hash) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (std::size_t i = 0; i < size; ++i) {
-    hash ^= p[i];
-    hash *= 0x100000001b3ULL;
-  }
-  return hash;
-}
-
-std::string hex64(std::uint64_t v) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
-  return buf;
-}
-
 std::string with_text_digest(const std::string& text) {
-  return text + "text_digest = " + hex64(fnv1a64(text.data(), text.size())) + "\n";
+  return text + "text_digest = " + common::format_hex64(common::fnv1a64(text)) + "\n";
 }
 
 bool text_digest_matches(const std::string& text) {

@@ -1,3 +1,5 @@
+#include "losmimo/common/format.h"
+#include "losmimo/common/hash.h"
 #include "losmimo/common/ini_config.h"
 #include "losmimo/rawlog/log.h"
 
@@ -124,7 +126,7 @@ class Builder {
       check_mark(o, *c);
       return;
     }
-    digest_ = fnv1a64(o.bytes.data(), o.bytes.size(), digest_);
+    digest_ = common::fnv1a64(o.bytes.data(), o.bytes.size(), digest_);
     ++labels_seen_[o.index == 0 ? std::string(kLabelConfig) : (obs ? obs->sensorLabel : o.class_name)];
     if (o.index == 0) return;  // CONFIG
     pending_.push_back({o.class_name, o.object});
@@ -141,9 +143,9 @@ class Builder {
       error = "the mark's text_digest does not match its text";
     else if (get("objects") != std::to_string(o.index))
       error = "object count " + get("objects") + " != " + std::to_string(o.index);
-    else if (get("digest") != hex64(digest_))
-      error = "digest " + get("digest") + " != " + hex64(digest_);
-    digest_ = kFnvOffset;
+    else if (get("digest") != common::format_hex64(digest_))
+      error = "digest " + get("digest") + " != " + common::format_hex64(digest_);
+    digest_ = common::kFnvOffset;
     const bool end = is_mark(c, kLabelEndOfLog);
     int epoch = -1;
     if (error.empty()) {
@@ -381,7 +383,7 @@ class Builder {
   }
 
   MissionLog& log_;
-  std::uint64_t digest_ = kFnvOffset;
+  std::uint64_t digest_ = common::kFnvOffset;
   std::vector<Pending> pending_;
   std::map<std::string, std::int64_t> labels_seen_;  // ours, for END_OF_LOG's counts
   std::int64_t records_ = 0;  // ours: records in the epochs committed (and the one at hand)

@@ -1,3 +1,5 @@
+#include "losmimo/common/format.h"
+#include "losmimo/common/hash.h"
 #include "losmimo/rawlog/recorder.h"
 
 #include <zlib.h>
@@ -26,6 +28,8 @@ namespace losmimo::rawlog {
 
 namespace {
 
+std::string exact(double v) { return common::format_g(v, common::kExactDigits); }
+
 // 2026-01-01T00:00:00Z: a fixed origin keeps the logs (and their digests) reproducible.
 constexpr double kTimeOrigin_s = 1767225600.0;
 
@@ -46,7 +50,7 @@ class RawlogWriter {
     auto archive = mrpt::serialization::archiveFrom(mem);
     archive << obs;
     const auto n = static_cast<std::size_t>(mem.getTotalBytesCount());
-    digest_ = fnv1a64(mem.getRawBufferData(), n, digest_);
+    digest_ = common::fnv1a64(mem.getRawBufferData(), n, digest_);
     if (n > 0 && gzwrite(file_.get(), mem.getRawBufferData(), static_cast<unsigned>(n)) != static_cast<int>(n))
       throw std::runtime_error(path_ + ": write failed");
     bytes_ += n;
@@ -60,13 +64,13 @@ class RawlogWriter {
     c.sensorLabel = label;
     c.timestamp = mrpt::Clock::fromDouble(t_s);
     std::ostringstream text;
-    text << "losmimo " << label << "\nobjects = " << objects_ << "\ndigest = " << hex64(digest_)
+    text << "losmimo " << label << "\nobjects = " << objects_ << "\ndigest = " << common::format_hex64(digest_)
          << "\n" << body;
     // The mark's own text, up to here, so that no line of it changes unnoticed.
     c.text = with_text_digest(text.str());
-    digest_ = kFnvOffset;
+    digest_ = common::kFnvOffset;
     write(c);
-    digest_ = kFnvOffset;  // the mark itself is not part of the next digest
+    digest_ = common::kFnvOffset;  // the mark itself is not part of the next digest
     if (gzflush(file_.get(), Z_SYNC_FLUSH) != Z_OK) throw std::runtime_error(path_ + ": flush failed");
   }
 
@@ -82,7 +86,7 @@ class RawlogWriter {
  private:
   std::string path_;
   std::unique_ptr<gzFile_s, GzClose> file_;
-  std::uint64_t digest_ = kFnvOffset;
+  std::uint64_t digest_ = common::kFnvOffset;
   std::int64_t objects_ = 0;
   std::uint64_t bytes_ = 0;
   std::map<std::string, std::int64_t> label_counts_;
@@ -135,7 +139,7 @@ class Recorder : public fusion::ClosedLoopObserver {
     text << kRawlogMagic << " " << kRawlogFormatVersion << "\n" << mission_to_ini(config_)
          << "\n[rawlog]\nformat_version = " << kRawlogFormatVersion << "\nnum_uavs = " << nr
          << "\nnum_bs_antennas = " << config_.placement.scenario.num_bs_antennas()
-         << "\nepoch_origin_s = " << std::setprecision(17) << kTimeOrigin_s << "\nfilter_seeds = ";
+         << "\nepoch_origin_s = " << exact(kTimeOrigin_s) << "\nfilter_seeds = ";
     for (int m = 0; m < nr; ++m) text << (m ? ", " : "") << filter_seeds[m];
     text << "\ncsi_source = "
          << (config_.closed_loop.refine && config_.closed_loop.refinement.use_csi ? "loop" : "recorder")
@@ -212,11 +216,11 @@ class Recorder : public fusion::ClosedLoopObserver {
   void close_epoch(int epoch, double icn_after_moves) {
     if (!epoch_open_) return;
     std::ostringstream body;
-    body << std::setprecision(17) << "epoch = " << epoch << "\nmark = " << marks_
+    body << "epoch = " << epoch << "\nmark = " << marks_
          << "\nfilter_degraded = " << flags(filter_degraded_) << "\ndegraded = " << flags(degraded_)
          << "\nepochs_since_beacon = ";
     for (std::size_t m = 0; m < since_beacon_.size(); ++m) body << (m ? "," : "") << since_beacon_[m];
-    body << "\nmodes = " << flags(modes_) << "\nicn_after_moves = " << icn_after_moves << "\n";
+    body << "\nmodes = " << flags(modes_) << "\nicn_after_moves = " << exact(icn_after_moves) << "\n";
     writer_.mark(kLabelEpochEnd, body.str(), time_s(epoch) + 0.9 * config_.epoch_period_s);
     ++marks_;
     epoch_open_ = false;
@@ -234,10 +238,10 @@ class Recorder : public fusion::ClosedLoopObserver {
       }
     }
     std::ostringstream body;
-    body << std::setprecision(17) << "epochs = " << epochs_ << "\nmarks = " << marks_
+    body << "epochs = " << epochs_ << "\nmarks = " << marks_
          << "\nfinal_truth_epoch = " << (final_epoch > 0 ? final_epoch : -1)
          << "\niterations = " << r.run.iterations << "\nstatus = " << placement::to_string(r.run.status)
-         << "\nfinal_icn = " << (r.run.trace.empty() ? 0.0 : r.run.trace.back().icn) << "\n";
+         << "\nfinal_icn = " << exact(r.run.trace.empty() ? 0.0 : r.run.trace.back().icn) << "\n";
     if (r.run.faulted()) {  // only then: the logs of runs without a fault stay byte for byte
       std::string reason = r.run.fault;
       std::replace(reason.begin(), reason.end(), '\n', ' ');  // one "key = value" line

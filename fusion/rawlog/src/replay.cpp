@@ -1,3 +1,4 @@
+#include "losmimo/common/format.h"
 #include "losmimo/rawlog/replay.h"
 
 #include <Eigen/Cholesky>
@@ -38,11 +39,7 @@ double nees(const localization::Belief& b, const Eigen::Vector3d& truth_m) {
   return e.dot(b.cov_m2.ldlt().solve(e));
 }
 
-std::string num(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
+std::string num(double v) { return common::format_g(v, common::kCsvDigits); }
 
 // The link metrics of positions q (3 x Nr) into row m.
 void link_metrics(const placement::ChannelModel& model, double noise_variance, const Eigen::Matrix3Xd& q,

@@ -10,6 +10,8 @@ namespace losmimo::experiment {
 
 namespace {
 std::string fmt(double v) { return common::format_g(v, common::kCsvDigits); }
+// Positions must read back exactly, for recomputation.
+std::string exact(double v) { return common::format_g(v, common::kExactDigits); }
 }  // namespace
 
 void write_trials_header(std::ostream& out, const std::vector<std::string>& extra) {
@@ -38,16 +40,14 @@ void write_trials_rows(std::ostream& out, const std::vector<TrialRecord>& record
 void write_positions_header(std::ostream& out) { out << "sweep,value,algorithm,trial,uav,stage,x,y,z\n"; }
 
 void write_positions_rows(std::ostream& out, const std::vector<TrialRecord>& records) {
-  char buf[128];
   for (const TrialRecord& r : records) {
     const std::string prefix = r.sweep + "," + fmt(r.value) + "," + r.algorithm + "," +
                                std::to_string(r.trial) + ",";
     for (const auto& [stage, q] : {std::pair<const char*, const Eigen::Matrix3Xd*>{"start", &r.start_m},
                                    {"final", &r.final_m}}) {
       for (Eigen::Index n = 0; n < q->cols(); ++n) {
-        // %.17g: positions must round-trip exactly for recomputation.
-        std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g", (*q)(0, n), (*q)(1, n), (*q)(2, n));
-        out << prefix << n + 1 << "," << stage << "," << buf << "\n";
+        out << prefix << n + 1 << "," << stage << "," << exact((*q)(0, n)) << "," << exact((*q)(1, n)) << ","
+            << exact((*q)(2, n)) << "\n";
       }
     }
   }

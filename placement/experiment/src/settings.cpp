@@ -189,16 +189,4 @@ std::vector<std::string> extra_metric_names(const ExperimentSettings& settings,
   return names;
 }
 
-std::uint64_t derive_seed(std::uint64_t base, std::initializer_list<std::uint64_t> path) {
-  const auto mix = [](std::uint64_t z) {
-    z += 0x9e3779b97f4a7c15ULL;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  };
-  std::uint64_t h = mix(base);
-  for (const std::uint64_t p : path) h = mix(h ^ mix(p + 0x632be59bd9b4e019ULL));
-  return h;
-}
-
 }  // namespace losmimo::experiment

@@ -1,3 +1,5 @@
+#include "losmimo/common/hash.h"
+#include "losmimo/common/seed.h"
 #include "losmimo/experiment/trial.h"
 
 #include <cmath>
@@ -38,12 +40,6 @@ double mean_db(const Eigen::VectorXd& linear) {
   return sum / linear.size();
 }
 
-std::uint64_t fnv1a(const std::string& text) {
-  std::uint64_t h = 14695981039346656037ULL;
-  for (const unsigned char c : text) h = (h ^ c) * 1099511628211ULL;
-  return h;
-}
-
 placement::RunResult run_algorithm(const placement::PlacementSettings& p, Algorithm a, const Eigen::Matrix3Xd& start, std::uint64_t seed,
                         placement::RunOptions run) {
   const placement::ChannelModel model(p.scenario);
@@ -56,7 +52,7 @@ placement::RunResult run_algorithm(const placement::PlacementSettings& p, Algori
 }  // namespace
 
 std::uint64_t trial_start_seed(const ExperimentSettings& s, int trial) {
-  return derive_seed(s.seed, {0, static_cast<std::uint64_t>(trial)});
+  return common::derive_seed(s.seed, {0, static_cast<std::uint64_t>(trial)});
 }
 
 Eigen::Matrix3Xd trial_start_positions_m(const ExperimentSettings& s, int trial) {
@@ -65,7 +61,7 @@ Eigen::Matrix3Xd trial_start_positions_m(const ExperimentSettings& s, int trial)
 }
 
 std::uint64_t trial_seed(const ExperimentSettings& s, const std::string& sweep, int point, int trial) {
-  return derive_seed(s.seed, {1, fnv1a(sweep), static_cast<std::uint64_t>(point), static_cast<std::uint64_t>(trial)});
+  return common::derive_seed(s.seed, {1, common::fnv1a64(sweep), static_cast<std::uint64_t>(point), static_cast<std::uint64_t>(trial)});
 }
 
 TrialRecord make_record(const ExperimentSettings& s, const std::string& sweep, int point, int trial,
@@ -129,7 +125,7 @@ placement::RunResult run_traced(const ExperimentSettings& s, Algorithm algorithm
   placement::RunOptions run = p.run;
   run.trace_sinr = true;
   return run_algorithm(p, algorithm, trial_start_positions_m(s, trial),
-                       derive_seed(s.seed, {2, static_cast<std::uint64_t>(trial)}), run);
+                       common::derive_seed(s.seed, {2, static_cast<std::uint64_t>(trial)}), run);
 }
 
 }  // namespace losmimo::experiment

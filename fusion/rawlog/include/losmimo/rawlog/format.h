@@ -58,10 +58,6 @@ inline constexpr double kMoveGd = 0.0;
 inline constexpr double kMoveBf = 1.0;
 inline constexpr double kMoveEscape = 2.0;
 
-// FNV-1a 64-bit over bytes, continuing from `hash` (the digest of the integrity marks).
-inline constexpr std::uint64_t kFnvOffset = 0xcbf29ce484222325ULL;
-std::uint64_t fnv1a64(const void* data, std::size_t size, std::uint64_t hash = kFnvOffset);
-std::string hex64(std::uint64_t v);  // 16 lower-case hex digits
 
 // The marks' text: "key = value" lines, closed by "text_digest = <hex64 of the text before it>".
 std::string with_text_digest(const std::string& text);  // appends the text_digest line

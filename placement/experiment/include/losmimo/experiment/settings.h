@@ -60,7 +60,4 @@ struct ExperimentSettings {
   const SweepPoints* sweep(const std::string& name) const;
 };
 
-// Deterministic 64-bit seed from a base and a path of indices (splitmix64 chain).
-std::uint64_t derive_seed(std::uint64_t base, std::initializer_list<std::uint64_t> path);
-
 }  // namespace losmimo::experiment
