@@ -1,4 +1,4 @@
-// libFuzzer target: the INI config loader (issue 8).
+// libFuzzer target: the INI config loader.
 //
 // Input: INI text, as `--config FILE` gives it to both apps. It goes through what the apps do
 // with a config: IniConfig::from_string, require_known, load_placement_settings and

@@ -1,4 +1,4 @@
-// libFuzzer target: the positions CSV reader and `losmimo-eval` (issue 8).
+// libFuzzer target: the positions CSV reader and `losmimo-eval`.
 //
 // Input: a positions CSV. It is parsed by parse_positions_csv and, as a file, evaluated by
 // run_eval (read_positions_csv + channel + metrics + CSV output), the whole `losmimo-eval` path,

@@ -1,4 +1,4 @@
-// Bad rawlogs (issue 6): truncated at many offsets, random bytes corrupted (seeded), a corrupted
+// Bad rawlogs: truncated at many offsets, random bytes corrupted (seeded), a corrupted
 // length field, and a foreign rawlog with types the replay cannot use. Each case: a clear
 // report, the readable prefix processed, no crash, no hang, no large allocation.
 #include <gtest/gtest.h>

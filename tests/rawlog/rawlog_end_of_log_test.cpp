@@ -1,4 +1,4 @@
-// END_OF_LOG's run status and fault (rawlog_log.h): a log of a run ended by a fault, its
+// END_OF_LOG's run status and fault (log.h): a log of a run ended by a fault, its
 // END_OF_LOG rewritten (a consistent text_digest, so only the reader's field checks can object):
 // a log written before the reason was logged, bad fields named with their values, and a reason
 // with commas quoted in summary.csv.

@@ -1,6 +1,6 @@
 // The real losmimo-record and losmimo-replay binaries on a mission whose UAV dies mid-mission:
 // record exits 3 and closes the log, replay reads it to the end within a deadline, prints the
-// status and the loop's reason, writes its outputs and exits 3 (rawlog_replay.h).
+// status and the loop's reason, writes its outputs and exits 3 (rawlog/replay.h).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// losmimo-replay of missions with faults (issue 8 x issue 6): a UAV that dies mid-mission, a UAV
+// losmimo-replay of missions with faults: a UAV that dies mid-mission, a UAV
 // silent for two iterations, NaN beacons, a filter overflow part-way through an epoch. Each log
 // is replayed through replay_mission and apps::run_replay_app (what losmimo-replay calls) and checked
 // against the live closed loop run with the same config and seed (its observer), not against the

@@ -1,4 +1,4 @@
-// losmimo-replay (issue 6): golden replays of the shipped missions, bit-for-bit reproduction of
+// losmimo-replay: golden replays of the shipped missions, bit-for-bit reproduction of
 // the recorded beliefs, co-evaluation with another estimator, the placement evaluation against
 // the run's own ICN trace, and a mission killed mid-way.
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 #pragma once
-// The co-evaluation of estimators and placement (issue 5): two sweep kinds that fusion adds to
-// `losmimo-experiment` (placement/experiment_extension.h). Both are off unless listed in
+// The co-evaluation of estimators and placement: two sweep kinds that fusion adds to
+// `losmimo-experiment` (experiment/extension.h). Both are off unless listed in
 // `[experiment] sweeps`, e.g. `--set experiment.sweeps=beacon_noise_m,beacon_outage`.
 //
 // Sweep `beacon_noise_m`: the value v [m] is the beacon-only cross-range error at the swarm
@@ -140,7 +140,7 @@ std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::Ex
 std::vector<experiment::TrialRecord> run_outage_trial(const experiment::ExperimentSettings& settings,
                                                      int point, int trial);
 
-// The two extensions (experiment_extensions.h lists them). Each beacon_noise_m extension owns
+// The two extensions (extensions.h lists them). Each beacon_noise_m extension owns
 // a CentralizedCache.
 experiment::ExperimentExtension beacon_noise_extension();
 experiment::ExperimentExtension beacon_outage_extension();
