@@ -32,3 +32,26 @@ TEST(IniConfig, MalformedLines_NameTheLine) {
   expect_input_error([] { losmimo::common::IniConfig::from_string("[scen\n", "d.ini"); }, {"d.ini:1"});
   expect_input_error([] { losmimo::common::IniConfig::from_file("/nonexistent/x.ini"); }, {"/nonexistent/x.ini", "cannot open"});
 }
+
+TEST(IniConfig, ErrorsAboutAKey_CarryTheKeyAsTheirField) {
+  const auto cfg = losmimo::common::IniConfig::from_string("[scenario]\nsnr_db = 10dB\n[foo]\nx = 1\n", "f.ini");
+  try {
+    cfg.get_double("scenario", "snr_db", 0.0);
+    FAIL() << "accepted";
+  } catch (const losmimo::common::InputError& e) {
+    EXPECT_EQ(e.field(), "[scenario] snr_db");
+    EXPECT_NE(std::string(e.what()).find("f.ini:2"), std::string::npos) << e.what();
+  }
+  try {
+    cfg.require_known({{"scenario", {"snr_db"}}});
+    FAIL() << "accepted";
+  } catch (const losmimo::common::InputError& e) {
+    EXPECT_EQ(e.field(), "[foo]");
+  }
+  try {
+    losmimo::common::IniConfig::from_string("[s\n", "g.ini");
+    FAIL() << "accepted";
+  } catch (const losmimo::common::InputError& e) {
+    EXPECT_EQ(e.field(), "") << "a malformed line is not about one field";
+  }
+}

@@ -27,7 +27,7 @@ namespace {
 using test_support::contains;
 using test_support::load_log;
 using test_support::LoopRecorder;
-using test_support::read_file_bytes;
+using test_support::read_file;
 using test_support::small_mission;
 using test_support::temp_path;
 
@@ -97,7 +97,7 @@ AppRun replay_app(const std::string& path, const std::string& out_dir) {
   a.code = apps::run_replay_app({path, "", false, false, out_dir, false}, out, err);
   a.out = out.str();
   a.err = err.str();
-  a.summary_csv = read_file_bytes(out_dir + "/summary.csv");
+  a.summary_csv = read_file(out_dir + "/summary.csv");
   return a;
 }
 
