@@ -21,6 +21,7 @@
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include "losmimo/common/test_hook.h"
 #include "losmimo/rawlog/reader.h"
 
 // Sanitizer runtimes (ASan, libFuzzer) call a death callback on an error; the child must not
@@ -117,6 +118,7 @@ class ChildChannel : public SandboxChannel {
     progress_->class_len = static_cast<std::uint32_t>(n);
     progress_->offset = offset;
     progress_->index = index;
+    common::test_pause_point("sandbox.parsing");
   }
   bool send(const RawlogObject& o, std::uint64_t end_offset, std::string& why) override {
     std::vector<std::uint8_t> bytes = serialize(*o.object);

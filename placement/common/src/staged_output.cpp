@@ -193,6 +193,12 @@ void verify_manifest_files(const fs::path& dir, const IniConfig& manifest) {
   for (const auto& [name, expected] : listed_files(manifest, dir)) {
     const fs::path p = dir / name;
     if (!fs::is_regular_file(p)) throw InputError(p.string() + ": missing (listed in " + kManifestName + ")");
+    // The size first: a file of another size is not read (it may be huge).
+    const std::string listed_size = expected.substr(0, expected.find(' '));
+    if (std::to_string(fs::file_size(p)) != listed_size) {
+      throw InputError(p.string() + ": changed since the run wrote it (" + std::to_string(fs::file_size(p)) +
+                       " bytes; " + kManifestName + " says " + listed_size + ")");
+    }
     const auto [size, digest] = size_and_digest(p);
     if (expected != std::to_string(size) + " " + format_hex64(digest)) {
       throw InputError(p.string() + ": changed since the run wrote it (" + std::to_string(size) + " bytes, digest " +

@@ -12,7 +12,9 @@ namespace losmimo::common {
 void test_pause_point(const char* point) {
   const char* spec = std::getenv("LOSMIMO_TEST_PAUSE");
   if (spec == nullptr) return;
-  const std::string s(spec);
+  std::string s(spec);
+  const bool spin = s.size() > 5 && s.compare(s.size() - 5, 5, ":spin") == 0;
+  if (spin) s.resize(s.size() - 5);
   const std::size_t hash = s.find('#');
   if (s.substr(0, hash) != point) return;
   const long nth = hash == std::string::npos ? 1 : std::atol(s.c_str() + hash + 1);
@@ -22,6 +24,8 @@ void test_pause_point(const char* point) {
     const int fd = ::open(mark, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd >= 0) ::close(fd);
   }
+  volatile unsigned long burn = 0;
+  while (spin) burn = burn + 1;
   while (true) ::pause();
 }
 
