@@ -30,7 +30,9 @@ std::vector<common::Key<Scenario>> scenario_keys() {
       K::real("scenario", "snr_db", &Scenario::snr_db, {}, "SNR per BS-antenna-to-UAV link at the swarm range [dB]",
               "20"),
       K::text("scenario", "gain_model",
-              [](Scenario& s, const std::string& text, const std::string&) { s.gain_model = gain_model_from_string(text); },
+              [](Scenario& s, const std::string& text, const std::string&) {
+                s.gain_model = gain_model_from_string(text);
+              },
               [](const Scenario& s) { return to_string(s.gain_model); }, "far_field | exact",
               "channel amplitudes: far-field (the paper's) or exact per-antenna distances", "exact"),
   };

@@ -75,11 +75,11 @@ std::vector<common::Key<ExperimentSettings>> experiment_key_list() {
       K::integer("experiment", "seed", &ExperimentSettings::seed, 0, (1LL << 62),
                  "base seed; every number of a trial derives from it", "7"),
       // Read before `sweeps`, which takes the built-in sweeps' values from here.
-      K::real_list("experiment", "sigma_loc_values_m", [](auto& s) -> auto& { return builtin_values(s, kSweepSigmaLoc); },
-                   sigma_range, "sweep points of sigma_loc_m [m]", "0, 0.1")
+      K::real_list("experiment", "sigma_loc_values_m",
+                   [](auto& s) -> auto& { return builtin_values(s, kSweepSigmaLoc); }, sigma_range, "sweep points of sigma_loc_m [m]", "0, 0.1")
           .written_if([](const ExperimentSettings& s) { return s.sweep(kSweepSigmaLoc) != nullptr; }),
-      K::real_list("experiment", "sigma_act_values_m", [](auto& s) -> auto& { return builtin_values(s, kSweepSigmaAct); },
-                   sigma_range, "sweep points of sigma_act_m [m]", "0.05")
+      K::real_list("experiment", "sigma_act_values_m",
+                   [](auto& s) -> auto& { return builtin_values(s, kSweepSigmaAct); }, sigma_range, "sweep points of sigma_act_m [m]", "0.05")
           .written_if([](const ExperimentSettings& s) { return s.sweep(kSweepSigmaAct) != nullptr; }),
       K::text("experiment", "sweeps",
               [](ExperimentSettings& s, const std::string& text, const std::string& where) {
@@ -95,7 +95,9 @@ std::vector<common::Key<ExperimentSettings>> experiment_key_list() {
                 if (sweeps.empty()) throw common::InputError(where + ": needs at least one sweep");
                 s.sweeps = sweeps;
               },
-              [](const ExperimentSettings& s) { return join_names(s.sweeps, [](const SweepPoints& p) { return p.name; }); },
+              [](const ExperimentSettings& s) {
+                return join_names(s.sweeps, [](const SweepPoints& p) { return p.name; });
+              },
               "comma-separated sweep names",
               "the sweeps to run, in order (extensions add more, e.g. fusion's beacon_noise_m)", "sigma_act_m"),
       K::text("experiment", "algorithms",
@@ -132,10 +134,11 @@ const common::KeyTable<ExperimentSettings>& experiment_keys() {
 
 std::map<std::string, std::set<std::string>> experiment_config_keys(const ExperimentExtensions& extensions) {
   auto keys = placement::placement_config_keys();
-  for (const auto& [section, section_keys] : experiment_keys().known_keys()) keys[section].insert(section_keys.begin(), section_keys.end());
-  for (const ExperimentExtension& e : extensions) {
-    for (const auto& [section, section_keys] : e.config_keys) keys[section].insert(section_keys.begin(), section_keys.end());
-  }
+  const auto add = [&keys](const std::map<std::string, std::set<std::string>>& more) {
+    for (const auto& [section, section_keys] : more) keys[section].insert(section_keys.begin(), section_keys.end());
+  };
+  add(experiment_keys().known_keys());
+  for (const ExperimentExtension& e : extensions) add(e.config_keys);
   return keys;
 }
 
@@ -148,7 +151,8 @@ ExperimentSettings load_experiment_settings(const common::IniConfig& cfg, const 
   keys.load(cfg, s);
   keys.check(cfg, "", [&] {
     for (const SweepPoints& sweep : s.sweeps) {
-      if (sweep.name == kSweepSigmaLoc || sweep.name == kSweepSigmaAct || find_extension(extensions, sweep.name)) continue;
+      const bool builtin = sweep.name == kSweepSigmaLoc || sweep.name == kSweepSigmaAct;
+      if (builtin || find_extension(extensions, sweep.name)) continue;
       std::string known = kSweepSigmaLoc + ", " + kSweepSigmaAct;
       for (const ExperimentExtension& e : extensions) known += ", " + e.sweep;
       throw common::FieldError("sweeps", "unknown sweep '" + sweep.name + "' (known: " + known + ")");

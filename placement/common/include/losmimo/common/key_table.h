@@ -72,7 +72,7 @@ struct Key {
   Kind kind = Kind::kText;
   std::string rule;     // the values it accepts, e.g. "integer in [1, 64]", "far_field | exact"
   std::string doc;      // what it sets, with the unit
-  std::string example;  // a valid value other than the default (tests round-trip it)
+  std::string example;  // a valid value other than the default, as to_ini writes it (tests)
   std::vector<std::string> refused;  // values load() refuses (tests: each error names the key)
   std::vector<std::string> fields;   // the fields it sets, as FieldError::field() names them
   // Parses `text` (the value as given, trimmed) into the settings. Throws InputError with the
@@ -197,7 +197,9 @@ struct Key {
     k.read = [ref, lo, hi](S& s, const std::string& text, const std::string& where) {
       using T = typename std::remove_reference_t<decltype(ref(s))>::value_type;
       std::remove_reference_t<decltype(ref(s))> values;
-      for (const std::string& item : split_list(text)) values.push_back(static_cast<T>(parse_integer(item, where, lo, hi)));
+      for (const std::string& item : split_list(text)) {
+        values.push_back(static_cast<T>(parse_integer(item, where, lo, hi)));
+      }
       if (values.empty()) throw InputError(where + ": needs at least one value");
       ref(s) = values;
     };
