@@ -1,6 +1,7 @@
 // The key-table facility (common/key_table.h) on a small settings struct of every kind.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -185,6 +186,16 @@ TEST(KeyTable, WriteTo_SetsTheWrittenKeysOnly) {
   EXPECT_EQ(cfg.get_string("toy", "count", ""), "4");
   EXPECT_EQ(cfg.get_string("toy", "rare", ""), "0");  // not written: kept as given
   EXPECT_EQ(cfg.get_string("other", "x", ""), "1");
+}
+
+TEST(KeyTable, Markdown_ListsEveryKeyWithDefaultRuleAndMeaning) {
+  const std::string md = toy_keys().markdown();
+  EXPECT_NE(md.find("| [toy] | rate_hz | 2.5 | number > 0 | a rate [Hz] |\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("| [toy] | count | 3 | integer in [1, 10] | a count |\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("| [toy] | levels_m | 0.5, 1 | comma-separated numbers in [0, 10] | levels [m] |\n"),
+            std::string::npos)
+      << md;
+  EXPECT_EQ(std::count(md.begin(), md.end(), '\n'), 2 + static_cast<long>(toy_keys().keys().size()));
 }
 
 TEST(KeyTable, ABadTable_IsRefusedWhenBuilt) {

@@ -6,7 +6,8 @@
 //   load()        typed reads with their range checks; every error starts "FILE:LINE: [section]
 //                 key: " (just "[section] key: " for a value given by --set),
 //   check()       a validator's FieldError (field_error.h) reported as the key that set the field,
-//   to_ini()      the settings as INI text, sections and keys in table order.
+//   to_ini()      the settings as INI text, sections and keys in table order,
+//   markdown()    the key reference for the docs.
 // Rules that involve several fields stay in the struct's validate(), which throws FieldError;
 // check() finds the key through the entries' `fields`.
 //
@@ -75,6 +76,7 @@ struct Key {
   std::string example;  // a valid value other than the default, as to_ini writes it (tests)
   std::vector<std::string> refused;  // values load() refuses (tests: each error names the key)
   std::vector<std::string> fields;   // the fields it sets, as FieldError::field() names them
+                                     // (default: the key)
   // Parses `text` (the value as given, trimmed) into the settings. Throws InputError with the
   // whole message (`where` is "FILE:LINE: [section] key"), or std::invalid_argument, which
   // load() prefixes with "<where>: ".
@@ -376,6 +378,17 @@ class KeyTable {
         section = &k.section;
       }
       out += k.key + " = " + k.write(settings, format_) + "\n";
+    }
+    return out;
+  }
+
+  // "| [section] | key | default | values | meaning |" rows, one per key, defaults from S{}.
+  std::string markdown() const {
+    std::string out = "| section | key | default | values | meaning |\n|---|---|---|---|---|\n";
+    const S defaults{};
+    for (const Key<S>& k : keys_) {
+      out += "| [" + k.section + "] | " + k.key + " | " + k.write(defaults, format_) + " | " + k.rule + " | " +
+             k.doc + " |\n";
     }
     return out;
   }
