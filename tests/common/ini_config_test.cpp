@@ -4,19 +4,9 @@
 #include <vector>
 
 #include "losmimo/common/ini_config.h"
+#include "support/input_error.h"
 
-namespace {
-// Runs f, expecting an InputError whose message contains every fragment.
-template <typename F>
-void expect_input_error(F&& f, const std::vector<std::string>& fragments) {
-  try {
-    f();
-    FAIL() << "no InputError";
-  } catch (const losmimo::common::InputError& e) {
-    for (const auto& frag : fragments) EXPECT_NE(std::string(e.what()).find(frag), std::string::npos) << e.what();
-  }
-}
-}  // namespace
+using losmimo::test_support::expect_input_error;
 
 TEST(IniConfig, ParsesSectionsKeysAndComments) {
   const auto cfg = losmimo::common::IniConfig::from_string("# top\n[scenario]\nsnr_db = 7.5 ; trailing\n\n[errors]\nsigma_loc_m=0.1\n");

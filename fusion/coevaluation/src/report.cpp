@@ -189,7 +189,7 @@ std::string beacon_noise_report_section(const experiment::ExperimentSettings& s,
   md << "## Co-evaluation: beacon noise (`beacon_noise_m`)\n\n"
      << "The swept value is the beacon-only cross-range error per axis at R = "
      << fmt(s.placement.scenario.range_m(), 0) << " m (beacon angle sigma = value / R; range sigma "
-     << fmt(c.sigma_range_m, 3) << " m). `gd_gauss` is the paper's GD with sigma_loc = value (same "
+     << fmt(c.closed_loop.simulator.sigma_range_m, 3) << " m). `gd_gauss` is the paper's GD with sigma_loc = value (same "
      << "per-axis lateral error as the beacon-only fix); the filters assume the true noise. "
      << "Actuation error sigma_act = " << fmt(s.placement.errors.sigma_act_m, 3) << " m. All algorithms "
      << "from the same " << s.trials << " starts per point with paired seeds; `centralized` is the Ceres "
