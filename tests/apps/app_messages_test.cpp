@@ -118,5 +118,36 @@ TEST(AppMessages, ByteOrderMark_AcceptedAtTheStartOfAFileAndShownElsewhere) {
   fs::remove(positions);
 }
 
+// Used to pool both points' trials into one point (one summary row with twice the trials).
+TEST(AppSettings, SweepValueListedTwice_IsRefused) {
+  std::string err;
+  ExperimentOptions o;
+  o.out_dir = temp("dup").string();
+  o.overrides = {"experiment.sigma_loc_values_m=0, 0"};
+  EXPECT_EQ(experiment(o, &err), 2);
+  EXPECT_NE(err.find("[experiment] sigma_loc_values_m: '0' listed twice"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(temp("dup.partial")));
+}
+
+// Used to run, and report "iterations to ICN 0.95: 0.00".
+TEST(AppSettings, ZeroIterations_IsRefused) {
+  std::string err;
+  ExperimentOptions o;
+  o.out_dir = temp("zero").string();
+  o.overrides = {"placement.max_iterations=0"};
+  EXPECT_EQ(experiment(o, &err), 2);
+  EXPECT_NE(err.find("[placement] max_iterations: 0 is out of range [1, "), std::string::npos) << err;
+}
+
+// Used to say "ura needs ..." when only ura_lattice was listed.
+TEST(AppSettings, UraLatticeOnAnotherSwarm_NamesUraLattice) {
+  std::string err;
+  ExperimentOptions o;
+  o.out_dir = temp("lattice").string();
+  o.overrides = {"scenario.num_uavs=5", "experiment.algorithms=gd, ura_lattice"};
+  EXPECT_EQ(experiment(o, &err), 2);
+  EXPECT_NE(err.find("ura_lattice needs scenario.num_uavs = bs_rows * bs_cols (16), got 5"), std::string::npos) << err;
+}
+
 }  // namespace
 }  // namespace losmimo::apps
