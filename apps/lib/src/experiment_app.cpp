@@ -206,6 +206,9 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
   } catch (const common::InputError& e) {
     print_error(err, kApp, e.what());
     return kExitBadInput;
+  } catch (const std::exception& e) {  // the output folder cannot be created
+    print_error(err, kApp, std::string("error: ") + e.what());
+    return kExitFailure;
   }
 
   const int threads = threads_of(settings);

@@ -44,6 +44,9 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
   } catch (const common::InputError& e) {
     print_error(err, kApp, e.what());
     return kExitBadInput;
+  } catch (const std::exception& e) {
+    print_error(err, kApp, e.what());
+    return kExitFailure;
   }
   if (options.refine) ro.refine = true;
   if (options.no_refine) ro.refine = false;

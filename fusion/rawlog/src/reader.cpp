@@ -70,7 +70,11 @@ std::string first_line(const std::string& s) {
   for (std::string line; std::getline(in, line);) {
     if (line.find_first_not_of(" \t=") == std::string::npos) continue;
     out = line;
-    if (line.find("Exception") == std::string::npos && line.find("==") == std::string::npos) break;
+    // MRPT's traces: headers ("Original exception:", "==== MRPT exception ====") are skipped.
+    if (line.find("Exception") == std::string::npos && line.find("==") == std::string::npos &&
+        line.find("xception:") == std::string::npos) {
+      break;
+    }
   }
   return out.empty() ? s : out;
 }
