@@ -397,9 +397,15 @@ class KeyTable {
     // On the heap: GCC 12 at -O3 takes the inlined default members of a large S for
     // maybe-uninitialised on the stack.
     const auto defaults = std::make_unique<const S>();
+    // A '|' inside a cell (rules such as "true | false") would end the cell: escaped.
+    const auto cell = [](const std::string& text) {
+      std::string escaped;
+      for (const char c : text) escaped += c == '|' ? std::string("\\|") : std::string(1, c);
+      return escaped;
+    };
     for (const Key<S>& k : keys_) {
-      out += "| [" + k.section + "] | " + k.key + " | " + k.write(*defaults, format_) + " | " + k.rule + " | " +
-             k.doc + " |\n";
+      out += "| [" + k.section + "] | " + k.key + " | " + cell(k.write(*defaults, format_)) + " | " + cell(k.rule) +
+             " | " + cell(k.doc) + " |\n";
     }
     return out;
   }
