@@ -24,12 +24,6 @@ std::uint64_t derive_seed(std::uint64_t run_seed, Stream stream, int uav) {
   return common::derive_seed(run_seed, {tag}, 0);
 }
 
-[[noreturn]] void fail(const std::string& field, double value, const std::string& rule) {
-  std::ostringstream msg;
-  msg << "closed_loop." << field << " = " << value << ": must be " << rule;
-  throw common::FieldError(field, msg.str());
-}
-
 // BruteForcePlanner::step_uav's probe directions (bf.cpp), for the observer's commanded move.
 Eigen::Vector3d bf_probe_direction(int probe) {
   static const Eigen::Vector3d kDirections[7] = {
@@ -45,84 +39,6 @@ double nees(const localization::Belief& b, const Eigen::Vector3d& truth_m) {
 }
 
 }  // namespace
-
-std::string to_string(GdBeliefMode mode) {
-  return mode == GdBeliefMode::kMean ? "mean" : "sigma_points";
-}
-
-GdBeliefMode gd_belief_mode_from_string(const std::string& text) {
-  if (text == "mean") return GdBeliefMode::kMean;
-  if (text == "sigma_points") return GdBeliefMode::kSigmaPoints;
-  throw std::invalid_argument("closed_loop.gd_mode = '" + text + "': must be mean or sigma_points");
-}
-
-std::string to_string(UavFaultKind kind) {
-  switch (kind) {
-    case UavFaultKind::kUnresponsive: return "unresponsive";
-    case UavFaultKind::kNanBeacon: return "nan_beacon";
-    case UavFaultKind::kNanDisplacement: return "nan_displacement";
-    case UavFaultKind::kNanCsi: return "nan_csi";
-  }
-  return "unknown";
-}
-
-UavFaultKind uav_fault_kind_from_string(const std::string& text) {
-  for (const UavFaultKind kind : {UavFaultKind::kUnresponsive, UavFaultKind::kNanBeacon,
-                                  UavFaultKind::kNanDisplacement, UavFaultKind::kNanCsi}) {
-    if (to_string(kind) == text) return kind;
-  }
-  throw std::invalid_argument("fault kind '" + text +
-                              "': must be unresponsive, nan_beacon, nan_displacement or nan_csi");
-}
-
-int ClosedLoopStats::rejected_measurements() const {
-  int n = 0;
-  for (const std::vector<int>* v : {&rejected_beacons, &rejected_displacements, &rejected_csi}) {
-    for (const int k : *v) n += k;
-  }
-  return n;
-}
-
-void validate(const ClosedLoopConfig& config) {
-  // The truth first: a bad true noise is reported as such, not as the filter's copy of it.
-  common::with_field_prefix("simulator", [&] { localization::validate(config.simulator); });
-  common::with_field_prefix("filter", [&] { localization::validate(config.filter); });
-  common::with_field_prefix("refinement", [&] { validate(config.refinement); });
-  if (config.unresponsive_after_iterations < 1 || config.unresponsive_after_iterations > 1000) {
-    fail("unresponsive_after_iterations", config.unresponsive_after_iterations, "in [1, 1000]");
-  }
-  for (std::size_t i = 0; i < config.faults.size(); ++i) {
-    const UavFault& f = config.faults[i];
-    const std::string field = "faults[" + std::to_string(i) + "]";
-    if (f.uav < 0) fail(field + ".uav", f.uav, ">= 0");
-    if (f.from_iteration < 1) fail(field + ".from_iteration", f.from_iteration, ">= 1");
-    if (f.num_iterations < 0) fail(field + ".num_iterations", f.num_iterations, ">= 0");
-    if (f.kind == UavFaultKind::kNanCsi && !(config.refine && config.refinement.use_csi)) {
-      throw common::FieldError(field, "closed_loop." + field +
-                                          " = nan_csi: needs refine = true and use_csi = true (no CSI "
-                                          "is measured otherwise)");
-    }
-  }
-  for (std::size_t i = 0; i < config.outages.size(); ++i) {
-    const UavBeaconOutage& o = config.outages[i];
-    const std::string field = "outages[" + std::to_string(i) + "]";
-    if (o.uav < 0) fail(field + ".uav", o.uav, ">= 0");
-    if (o.window.first_epoch < 0) fail(field + ".first_epoch", o.window.first_epoch, ">= 0");
-    if (o.window.num_epochs < 0) fail(field + ".num_epochs", o.window.num_epochs, ">= 0");
-  }
-}
-
-ClosedLoopConfig matched_closed_loop_config(const localization::SimulatorConfig& simulator,
-                                            const placement::Scenario& scenario) {
-  ClosedLoopConfig config;
-  config.simulator = simulator;
-  config.filter.noise.sigma_range_m = simulator.sigma_range_m;
-  config.filter.noise.sigma_angle_rad = simulator.sigma_angle_rad;
-  config.filter.noise.dr_sigma_floor_m = simulator.dr_sigma_floor_m;
-  config.filter.noise.dr_sigma_fraction = simulator.dr_sigma_fraction;
-  config.refinement = refinement_config_from(config.filter.noise, scenario.noise_variance());
-  return config;
-}
 
 // Everything one UAV owns: its sensors, filter, refiner and CSI generator, each seeded.
 struct ClosedLoopPlanner::Uav {
@@ -160,17 +76,13 @@ std::string ClosedLoopPlanner::name() const {
 
 void ClosedLoopPlanner::start(placement::Swarm& swarm) {
   const int nr = swarm.num_uavs();
+  // The UAV indices' upper bound is the swarm's size, known only here.
+  const common::Range uav_index = common::Range::closed(0, nr - 1);
   for (std::size_t i = 0; i < config_.outages.size(); ++i) {
-    if (config_.outages[i].uav >= nr) {
-      fail("outages[" + std::to_string(i) + "].uav", config_.outages[i].uav,
-           "< the number of UAVs (" + std::to_string(nr) + ")");
-    }
+    common::require_field_in(uav_index, config_.outages[i].uav, "closed_loop", "outages[" + std::to_string(i) + "].uav");
   }
   for (std::size_t i = 0; i < config_.faults.size(); ++i) {
-    if (config_.faults[i].uav >= nr) {
-      fail("faults[" + std::to_string(i) + "].uav", config_.faults[i].uav,
-           "< the number of UAVs (" + std::to_string(nr) + ")");
-    }
+    common::require_field_in(uav_index, config_.faults[i].uav, "closed_loop", "faults[" + std::to_string(i) + "].uav");
   }
   uavs_.clear();
   beliefs_.assign(nr, localization::Belief{});

@@ -15,15 +15,6 @@ namespace losmimo::fusion {
 
 namespace {
 
-template <typename V>
-[[noreturn]] void bad_field(const char* field, const V& value, const char* requirement) {
-  std::ostringstream msg;
-  msg << "refinement." << field << " = " << value << ": " << requirement;
-  throw common::FieldError(field, msg.str());
-}
-
-bool positive_finite(double v) { return v > 0.0 && std::isfinite(v); }
-
 double dr_sigma_m(const RefinementConfig& c, const Eigen::Vector3d& displacement_m) {
   return c.dr_sigma_floor_m + c.dr_sigma_fraction * displacement_m.norm();
 }
@@ -31,25 +22,19 @@ double dr_sigma_m(const RefinementConfig& c, const Eigen::Vector3d& displacement
 }  // namespace
 
 void validate(const RefinementConfig& c) {
-  if (c.window_epochs < 1 || c.window_epochs > 64)
-    bad_field("window_epochs", c.window_epochs, "must be in [1, 64]");
-  if (!positive_finite(c.beacon_sigma_range_m))
-    bad_field("beacon_sigma_range_m", c.beacon_sigma_range_m, "must be a finite positive number");
-  if (!positive_finite(c.beacon_sigma_angle_rad))
-    bad_field("beacon_sigma_angle_rad", c.beacon_sigma_angle_rad, "must be a finite positive number");
-  if (!positive_finite(c.dr_sigma_floor_m))
-    bad_field("dr_sigma_floor_m", c.dr_sigma_floor_m, "must be a finite positive number");
-  if (!(c.dr_sigma_fraction >= 0.0) || !std::isfinite(c.dr_sigma_fraction))
-    bad_field("dr_sigma_fraction", c.dr_sigma_fraction, "must be a finite number >= 0");
-  if (!positive_finite(c.csi_noise_variance))
-    bad_field("csi_noise_variance", c.csi_noise_variance, "must be a finite positive number");
-  if (!positive_finite(c.csi_max_prior_sigma_m))
-    bad_field("csi_max_prior_sigma_m", c.csi_max_prior_sigma_m, "must be a finite positive number");
-  if (c.max_iterations < 1 || c.max_iterations > 1000)
-    bad_field("max_iterations", c.max_iterations, "must be in [1, 1000]");
-  if (!(c.min_reciprocal_condition_number > 0.0) || !(c.min_reciprocal_condition_number < 1.0))
-    bad_field("min_reciprocal_condition_number", c.min_reciprocal_condition_number,
-              "must be in (0, 1)");
+  namespace r = refinement_range;
+  const auto require = [](const common::Range& range, double value, const char* field) {
+    common::require_field_in(range, value, "refinement", field);
+  };
+  require(r::window_epochs, c.window_epochs, "window_epochs");
+  require(r::positive, c.beacon_sigma_range_m, "beacon_sigma_range_m");
+  require(r::positive, c.beacon_sigma_angle_rad, "beacon_sigma_angle_rad");
+  require(r::positive, c.dr_sigma_floor_m, "dr_sigma_floor_m");
+  require(r::dr_sigma_fraction, c.dr_sigma_fraction, "dr_sigma_fraction");
+  require(r::positive, c.csi_noise_variance, "csi_noise_variance");
+  require(r::positive, c.csi_max_prior_sigma_m, "csi_max_prior_sigma_m");
+  require(r::max_iterations, c.max_iterations, "max_iterations");
+  require(r::min_reciprocal_condition_number, c.min_reciprocal_condition_number, "min_reciprocal_condition_number");
 }
 
 RefinementConfig refinement_config_from(const localization::NoiseModel& noise,

@@ -20,14 +20,6 @@ namespace {
   throw common::FieldError(field, msg.str());
 }
 
-void require_finite_non_negative(const std::string& field, double value) {
-  if (!std::isfinite(value) || value < 0.0) fail(field, value, "finite and >= 0");
-}
-
-void require_finite_positive(const std::string& field, double value) {
-  if (!std::isfinite(value) || value <= 0.0) fail(field, value, "finite and > 0");
-}
-
 }  // namespace
 
 std::string to_string(FilterKind kind) { return kind == FilterKind::kEkf ? "ekf" : "pf"; }
@@ -58,33 +50,27 @@ ResamplingMethod resampling_method_from_string(const std::string& text) {
 }
 
 void validate(const FilterConfig& config) {
-  require_finite_non_negative("noise.sigma_range_m", config.noise.sigma_range_m);
-  require_finite_non_negative("noise.sigma_angle_rad", config.noise.sigma_angle_rad);
-  require_finite_non_negative("noise.dr_sigma_floor_m", config.noise.dr_sigma_floor_m);
-  require_finite_non_negative("noise.dr_sigma_fraction", config.noise.dr_sigma_fraction);
-  require_finite_positive("gate_chi2", config.gate_chi2);
-  require_finite_positive("max_beacon_range_m", config.max_beacon_range_m);
-  if (config.reset_after_rejections < 0) {
-    fail("reset_after_rejections", config.reset_after_rejections, ">= 0");
-  }
-  if (config.degraded_after_epochs < 1) {
-    fail("degraded_after_epochs", config.degraded_after_epochs, ">= 1");
-  }
-  require_finite_positive("degraded_sigma_m", config.degraded_sigma_m);
-  require_finite_positive("min_sigma_range_m", config.min_sigma_range_m);
-  require_finite_positive("min_sigma_angle_rad", config.min_sigma_angle_rad);
-  require_finite_positive("min_sigma_displacement_m", config.min_sigma_displacement_m);
-  require_finite_positive("min_variance_m2", config.min_variance_m2);
-  require_finite_positive("missing_displacement_sigma_m", config.missing_displacement_sigma_m);
-  if (config.num_particles < 1) fail("num_particles", config.num_particles, ">= 1");
-  if (!std::isfinite(config.ess_threshold) || config.ess_threshold <= 0.0 ||
-      config.ess_threshold > 1.0) {
-    fail("ess_threshold", config.ess_threshold, "in (0, 1]");
-  }
-  if (!std::isfinite(config.regularization_bandwidth) || config.regularization_bandwidth < 0.0 ||
-      config.regularization_bandwidth >= 1.0) {
-    fail("regularization_bandwidth", config.regularization_bandwidth, "in [0, 1)");
-  }
+  namespace r = filter_range;
+  const auto require = [](const common::Range& range, double value, const char* field) {
+    common::require_field_in(range, value, "filter", field);
+  };
+  require(r::sigma, config.noise.sigma_range_m, "noise.sigma_range_m");
+  require(r::sigma, config.noise.sigma_angle_rad, "noise.sigma_angle_rad");
+  require(r::sigma, config.noise.dr_sigma_floor_m, "noise.dr_sigma_floor_m");
+  require(r::sigma, config.noise.dr_sigma_fraction, "noise.dr_sigma_fraction");
+  require(r::gate_chi2, config.gate_chi2, "gate_chi2");
+  require(r::max_beacon_range_m, config.max_beacon_range_m, "max_beacon_range_m");
+  require(r::reset_after_rejections, config.reset_after_rejections, "reset_after_rejections");
+  require(r::degraded_after_epochs, config.degraded_after_epochs, "degraded_after_epochs");
+  require(r::positive, config.degraded_sigma_m, "degraded_sigma_m");
+  require(r::positive, config.min_sigma_range_m, "min_sigma_range_m");
+  require(r::positive, config.min_sigma_angle_rad, "min_sigma_angle_rad");
+  require(r::positive, config.min_sigma_displacement_m, "min_sigma_displacement_m");
+  require(r::positive, config.min_variance_m2, "min_variance_m2");
+  require(r::positive, config.missing_displacement_sigma_m, "missing_displacement_sigma_m");
+  require(r::num_particles, config.num_particles, "num_particles");
+  require(r::ess_threshold, config.ess_threshold, "ess_threshold");
+  require(r::regularization_bandwidth, config.regularization_bandwidth, "regularization_bandwidth");
 }
 
 void validate(const Belief& belief) {

@@ -5,47 +5,29 @@
 #include <stdexcept>
 #include <string>
 
-#include "losmimo/common/field_error.h"
 #include "losmimo/localization/beacon_model.h"
 
 namespace losmimo::localization {
 
-namespace {
-
-[[noreturn]] void fail(const std::string& field, double value, const std::string& rule) {
-  std::ostringstream msg;
-  msg << "localization: SimulatorConfig." << field << " = " << value << " (must be " << rule
-      << ")";
-  throw common::FieldError(field, msg.str());
-}
-
-void require_sigma(const std::string& field, double value) {
-  if (!std::isfinite(value) || value < 0.0) fail(field, value, "finite and >= 0");
-}
-
-}  // namespace
-
 void validate(const SimulatorConfig& config) {
-  require_sigma("sigma_range_m", config.sigma_range_m);
-  require_sigma("sigma_angle_rad", config.sigma_angle_rad);
-  if (config.beacon_period_epochs < 1) {
-    fail("beacon_period_epochs", config.beacon_period_epochs, ">= 1");
-  }
+  namespace r = simulator_range;
+  const auto require = [](const common::Range& range, double value, const std::string& field) {
+    common::require_field_in(range, value, "simulator", field);
+  };
+  require(r::sigma, config.sigma_range_m, "sigma_range_m");
+  require(r::sigma, config.sigma_angle_rad, "sigma_angle_rad");
+  require(r::beacon_period_epochs, config.beacon_period_epochs, "beacon_period_epochs");
   for (std::size_t i = 0; i < config.outages.size(); ++i) {
-    const OutageWindow& w = config.outages[i];
     const std::string name = "outages[" + std::to_string(i) + "]";
-    if (w.first_epoch < 0) fail(name + ".first_epoch", w.first_epoch, ">= 0");
-    if (w.num_epochs < 0) fail(name + ".num_epochs", w.num_epochs, ">= 0");
+    require(r::outage_epoch, config.outages[i].first_epoch, name + ".first_epoch");
+    require(r::outage_epoch, config.outages[i].num_epochs, name + ".num_epochs");
   }
-  if (!std::isfinite(config.outlier_fraction) || config.outlier_fraction < 0.0 ||
-      config.outlier_fraction > 1.0) {
-    fail("outlier_fraction", config.outlier_fraction, "in [0, 1]");
-  }
-  require_sigma("outlier_sigma_range_m", config.outlier_sigma_range_m);
-  require_sigma("outlier_sigma_angle_rad", config.outlier_sigma_angle_rad);
-  require_sigma("dr_sigma_floor_m", config.dr_sigma_floor_m);
-  require_sigma("dr_sigma_fraction", config.dr_sigma_fraction);
-  require_sigma("sigma_act_m", config.sigma_act_m);
+  require(r::outlier_fraction, config.outlier_fraction, "outlier_fraction");
+  require(r::sigma, config.outlier_sigma_range_m, "outlier_sigma_range_m");
+  require(r::sigma, config.outlier_sigma_angle_rad, "outlier_sigma_angle_rad");
+  require(r::sigma, config.dr_sigma_floor_m, "dr_sigma_floor_m");
+  require(r::sigma, config.dr_sigma_fraction, "dr_sigma_fraction");
+  require(r::sigma, config.sigma_act_m, "sigma_act_m");
 }
 
 SensorSimulator::SensorSimulator(const SimulatorConfig& config, std::uint64_t seed)

@@ -5,21 +5,11 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "losmimo/common/field_error.h"
+#include "losmimo/common/range.h"
 
 namespace losmimo::placement {
 
 namespace {
-void require_in(const char* field, double value, double lo, double hi, bool lo_open) {
-  const bool ok = std::isfinite(value) && (lo_open ? value > lo : value >= lo) && value <= hi;
-  if (!ok) {
-    std::ostringstream msg;
-    msg << "bf." << field << " = " << value << ": must be in " << (lo_open ? "(" : "[") << lo << ", "
-        << hi << "]";
-    throw common::FieldError(field, msg.str());
-  }
-}
-
 // Flies to r, measures f with the others fixed, flies back: one probe. The cached channel is
 // brought up to date once per UAV turn (Swarm::sync_channel), not per flight.
 double probe(Swarm& swarm, const UavObjective& view, int m, const Eigen::Vector3d& r) {
@@ -33,14 +23,16 @@ double probe(Swarm& swarm, const UavObjective& view, int m, const Eigen::Vector3
 }  // namespace
 
 void validate(const BfOptions& o) {
-  require_in("step", o.step, 0.0, 1e6, true);
-  require_in("decay", o.decay, 0.0, 1.0, true);
-  require_in("contraction", o.contraction, 0.0, 1.0, true);
-  require_in("min_step_m", o.min_step_m, 0.0, 1e6, true);
-  require_in("stall_min_decrease", o.stall_min_decrease, 0.0, 1.0, true);
-  if (o.stall_window < 1 || o.stall_window > 100000)
-    throw common::FieldError("stall_window", "bf.stall_window = " + std::to_string(o.stall_window) +
-                                ": must be in [1, 100000]");
+  namespace r = bf_range;
+  const auto require = [](const common::Range& range, double value, const char* field) {
+    common::require_field_in(range, value, "bf", field);
+  };
+  require(r::step, o.step, "step");
+  require(r::decay, o.decay, "decay");
+  require(r::contraction, o.contraction, "contraction");
+  require(r::min_step_m, o.min_step_m, "min_step_m");
+  require(r::stall_min_decrease, o.stall_min_decrease, "stall_min_decrease");
+  require(r::stall_window, o.stall_window, "stall_window");
 }
 
 BruteForcePlanner::BruteForcePlanner(const Scenario& scenario, const BfOptions& options)

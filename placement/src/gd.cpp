@@ -4,42 +4,24 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "losmimo/common/field_error.h"
+#include "losmimo/common/range.h"
 
 namespace losmimo::placement {
 
-namespace {
-void require_positive(const char* field, double value) {
-  if (!(value > 0.0) || !std::isfinite(value)) {
-    std::ostringstream msg;
-    msg << "gd." << field << " = " << value << ": must be a finite positive number";
-    throw common::FieldError(field, msg.str());
-  }
-}
-}  // namespace
-
 void validate(const GdOptions& o) {
-  require_positive("step", o.step);
-  require_positive("max_move_m", o.max_move_m);
-  if (!(o.decay > 0.0 && o.decay <= 1.0)) {
-    std::ostringstream msg;
-    msg << "gd.decay = " << o.decay << ": must be in (0, 1]";
-    throw common::FieldError("decay", msg.str());
-  }
-  require_positive("stall_min_decrease", o.stall_min_decrease);
-  require_positive("depth_step_gain", o.depth_step_gain);
-  if (o.stall_window < 1 || o.stall_window > 100000)
-    throw common::FieldError("stall_window", "gd.stall_window = " + std::to_string(o.stall_window) +
-                                ": must be in [1, 100000]");
-  if (o.escape_half_grid < 1 || o.escape_half_grid > 256)
-    throw common::FieldError("escape_half_grid", "gd.escape_half_grid = " + std::to_string(o.escape_half_grid) +
-                                ": must be in [1, 256]");
-  if (o.escape_uavs < 1 || o.escape_uavs > 100000)
-    throw common::FieldError("escape_uavs", "gd.escape_uavs = " + std::to_string(o.escape_uavs) +
-                                ": must be in [1, 100000]");
-  if (o.max_halvings < 0 || o.max_halvings > 60)
-    throw common::FieldError("max_halvings", "gd.max_halvings = " + std::to_string(o.max_halvings) +
-                                ": must be in [0, 60]");
+  namespace r = gd_range;
+  const auto require = [](const common::Range& range, double value, const char* field) {
+    common::require_field_in(range, value, "gd", field);
+  };
+  require(r::step, o.step, "step");
+  require(r::max_move_m, o.max_move_m, "max_move_m");
+  require(r::decay, o.decay, "decay");
+  require(r::stall_min_decrease, o.stall_min_decrease, "stall_min_decrease");
+  require(r::depth_step_gain, o.depth_step_gain, "depth_step_gain");
+  require(r::stall_window, o.stall_window, "stall_window");
+  require(r::escape_half_grid, o.escape_half_grid, "escape_half_grid");
+  require(r::escape_uavs, o.escape_uavs, "escape_uavs");
+  require(r::max_halvings, o.max_halvings, "max_halvings");
 }
 
 GradientDescentPlanner::GradientDescentPlanner(const Scenario& scenario, const GdOptions& options)

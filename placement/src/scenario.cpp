@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "losmimo/common/field_error.h"
+#include "losmimo/common/format.h"
 
 namespace losmimo::placement {
 
@@ -24,42 +25,25 @@ double Scenario::reference_gain() const { return wavelength_m() / (4.0 * M_PI * 
 
 double Scenario::noise_variance() const { return std::pow(10.0, -snr_db / 10.0); }
 
-namespace {
-template <typename T>
-[[noreturn]] void bad_field(const char* field, const T& value, const char* requirement) {
-  std::ostringstream msg;
-  msg << "scenario." << field << " = " << value << ": " << requirement;
-  throw common::FieldError(field, msg.str());
-}
-}  // namespace
-
-// Physical limits: within them every derived quantity (wavelength, range, distances, phases,
-// noise variance 10^(-snr_db/10)) is finite. Finite values beyond them overflow (a 1e300 m
-// cube centre gives an infinite range and a NaN channel; snr_db = 1e5 a zero noise variance).
-constexpr double kMaxLength_m = 1e7;
-constexpr double kMaxSpacing_m = 1e3;
-constexpr double kMinCarrier_hz = 1e3;
-constexpr double kMaxCarrier_hz = 1e15;
-constexpr double kMaxAbsSnr_db = 300.0;
-
 void validate(const Scenario& s) {
-  if (s.bs_rows < 1 || s.bs_rows > 64) bad_field("bs_rows", s.bs_rows, "must be in [1, 64]");
-  if (s.bs_cols < 1 || s.bs_cols > 64) bad_field("bs_cols", s.bs_cols, "must be in [1, 64]");
-  if (!(s.bs_spacing_m > 0.0 && s.bs_spacing_m <= kMaxSpacing_m))
-    bad_field("bs_spacing_m", s.bs_spacing_m, "must be in (0, 1e3] m");
-  if (!(s.carrier_hz >= kMinCarrier_hz && s.carrier_hz <= kMaxCarrier_hz))
-    bad_field("carrier_hz", s.carrier_hz, "must be in [1e3, 1e15] Hz");
-  if (s.num_uavs < 1 || s.num_uavs > 4096) bad_field("num_uavs", s.num_uavs, "must be in [1, 4096]");
-  if (!(s.cube_side_m >= 0.0 && s.cube_side_m <= kMaxLength_m))
-    bad_field("cube_side_m", s.cube_side_m, "must be in [0, 1e7] m");
-  const char* const center_keys[3] = {"cube_center_x_m", "cube_center_y_m", "cube_center_z_m"};
-  for (int i = 0; i < 3; ++i) {
-    if (!(std::abs(s.cube_center_m(i)) <= kMaxLength_m))
-      bad_field(center_keys[i], s.cube_center_m(i), "must be in [-1e7, 1e7] m");
+  namespace r = scenario_range;
+  const auto require = [](const common::Range& range, double value, const char* field) {
+    common::require_field_in(range, value, "scenario", field);
+  };
+  require(r::bs_rows, s.bs_rows, "bs_rows");
+  require(r::bs_cols, s.bs_cols, "bs_cols");
+  require(r::bs_spacing_m, s.bs_spacing_m, "bs_spacing_m");
+  require(r::carrier_hz, s.carrier_hz, "carrier_hz");
+  require(r::num_uavs, s.num_uavs, "num_uavs");
+  require(r::cube_side_m, s.cube_side_m, "cube_side_m");
+  require(r::cube_center_m, s.cube_center_m.x(), "cube_center_x_m");
+  require(r::cube_center_m, s.cube_center_m.y(), "cube_center_y_m");
+  require(r::cube_center_m, s.cube_center_m.z(), "cube_center_z_m");
+  if (!(s.cube_center_m.x() - 0.5 * s.cube_side_m > 0.0)) {
+    throw common::FieldError("cube_center_x_m", "scenario.cube_center_x_m = " + common::format_double(s.cube_center_m.x()) +
+                                                    ": the start cube must lie entirely in front of the BS (x > 0)");
   }
-  if (!(s.cube_center_m.x() - 0.5 * s.cube_side_m > 0.0))
-    bad_field("cube_center_x_m", s.cube_center_m.x(), "the start cube must lie entirely in front of the BS (x > 0)");
-  if (!(std::abs(s.snr_db) <= kMaxAbsSnr_db)) bad_field("snr_db", s.snr_db, "must be in [-300, 300] dB");
+  require(r::snr_db, s.snr_db, "snr_db");
 }
 
 Eigen::Matrix3Xd bs_antenna_positions_m(const Scenario& s) {

@@ -8,26 +8,25 @@ namespace losmimo::placement {
 namespace {
 
 using common::Range;
-constexpr long long kIntMax = std::numeric_limits<int>::max();
 
 // One table per section's struct; the rules beyond a key's own range are the struct's
 // validate(), whose FieldError names the field (= the key here).
 std::vector<common::Key<Scenario>> scenario_keys() {
   using K = common::Key<Scenario>;
   return {
-      K::integer("scenario", "bs_rows", &Scenario::bs_rows, 1, 64, "BS array rows", "2"),
-      K::integer("scenario", "bs_cols", &Scenario::bs_cols, 1, 64, "BS array columns", "8"),
-      K::real("scenario", "bs_spacing_m", &Scenario::bs_spacing_m, {}, "BS antenna spacing [m]", "0.5"),
-      K::real("scenario", "carrier_hz", &Scenario::carrier_hz, {}, "carrier frequency [Hz]", "3e+10"),
-      K::integer("scenario", "num_uavs", &Scenario::num_uavs, 1, 4096, "swarm size", "9"),
-      K::real("scenario", "cube_side_m", &Scenario::cube_side_m, {}, "side of the start cube [m]", "20"),
-      K::real("scenario", "cube_center_x_m", [](auto& s) -> auto& { return s.cube_center_m.x(); }, {},
+      K::integer("scenario", "bs_rows", &Scenario::bs_rows, scenario_range::bs_rows, "BS array rows", "2"),
+      K::integer("scenario", "bs_cols", &Scenario::bs_cols, scenario_range::bs_cols, "BS array columns", "8"),
+      K::real("scenario", "bs_spacing_m", &Scenario::bs_spacing_m, scenario_range::bs_spacing_m, "BS antenna spacing [m]", "0.5"),
+      K::real("scenario", "carrier_hz", &Scenario::carrier_hz, scenario_range::carrier_hz, "carrier frequency [Hz]", "3e+10"),
+      K::integer("scenario", "num_uavs", &Scenario::num_uavs, scenario_range::num_uavs, "swarm size", "9"),
+      K::real("scenario", "cube_side_m", &Scenario::cube_side_m, scenario_range::cube_side_m, "side of the start cube [m]", "20"),
+      K::real("scenario", "cube_center_x_m", [](auto& s) -> auto& { return s.cube_center_m.x(); }, scenario_range::cube_center_m,
               "start cube centre x, along the link from the BS [m]", "500"),
-      K::real("scenario", "cube_center_y_m", [](auto& s) -> auto& { return s.cube_center_m.y(); }, {},
+      K::real("scenario", "cube_center_y_m", [](auto& s) -> auto& { return s.cube_center_m.y(); }, scenario_range::cube_center_m,
               "start cube centre y [m]", "10"),
-      K::real("scenario", "cube_center_z_m", [](auto& s) -> auto& { return s.cube_center_m.z(); }, {},
+      K::real("scenario", "cube_center_z_m", [](auto& s) -> auto& { return s.cube_center_m.z(); }, scenario_range::cube_center_m,
               "start cube centre z [m]", "-10"),
-      K::real("scenario", "snr_db", &Scenario::snr_db, {}, "SNR per BS-antenna-to-UAV link at the swarm range [dB]",
+      K::real("scenario", "snr_db", &Scenario::snr_db, scenario_range::snr_db, "SNR per BS-antenna-to-UAV link at the swarm range [dB]",
               "20"),
       K::text("scenario", "gain_model",
               [](Scenario& s, const std::string& text, const std::string&) {
@@ -41,16 +40,18 @@ std::vector<common::Key<Scenario>> scenario_keys() {
 std::vector<common::Key<ErrorModel>> error_keys() {
   using K = common::Key<ErrorModel>;
   return {
-      K::real("errors", "sigma_loc_m", &ErrorModel::sigma_loc_m, {}, "localization error 1-sigma per axis [m]", "0.1"),
-      K::real("errors", "sigma_act_m", &ErrorModel::sigma_act_m, {}, "actuation error 1-sigma per axis [m]", "0.1"),
+      K::real("errors", "sigma_loc_m", &ErrorModel::sigma_loc_m, error_range::sigma_loc_m, "localization error 1-sigma per axis [m]", "0.1"),
+      K::real("errors", "sigma_act_m", &ErrorModel::sigma_act_m, error_range::sigma_act_m, "actuation error 1-sigma per axis [m]", "0.1"),
   };
 }
 
 std::vector<common::Key<RunOptions>> run_keys() {
   using K = common::Key<RunOptions>;
   return {
-      K::real("placement", "target_icn", &RunOptions::target_icn, {}, "the run stops at this ICN", "0.9"),
-      K::integer("placement", "max_iterations", &RunOptions::max_iterations, 1, 10'000'000,
+      K::real("placement", "target_icn", &RunOptions::target_icn, run_range::target_icn, "the run stops at this ICN", "0.9"),
+      K::integer("placement", "max_iterations", &RunOptions::max_iterations,
+                 // At least one: 0 only evaluates the start (a report's "iterations to ICN 0.95: 0").
+                 common::Range::closed(1, run_range::max_iterations.hi),
                  "the run stops after this many iterations", "50"),
   };
 }
@@ -58,22 +59,22 @@ std::vector<common::Key<RunOptions>> run_keys() {
 std::vector<common::Key<GdOptions>> gd_keys() {
   using K = common::Key<GdOptions>;
   return {
-      K::real("gd", "step", &GdOptions::step, {}, "initial step, per unit gradient", "0.1"),
-      K::real("gd", "decay", &GdOptions::decay, {}, "step decay per iteration", "0.99"),
-      K::real("gd", "max_move_m", &GdOptions::max_move_m, {}, "largest move per iteration [m]", "0.25"),
+      K::real("gd", "step", &GdOptions::step, gd_range::step, "initial step, per unit gradient", "0.1"),
+      K::real("gd", "decay", &GdOptions::decay, gd_range::decay, "step decay per iteration", "0.99"),
+      K::real("gd", "max_move_m", &GdOptions::max_move_m, gd_range::max_move_m, "largest move per iteration [m]", "0.25"),
       K::boolean("gd", "backtracking", &GdOptions::backtracking, "halve a step that does not decrease f", "false"),
-      K::integer("gd", "max_halvings", &GdOptions::max_halvings, 0, 60, "halvings per backtracking", "3"),
+      K::integer("gd", "max_halvings", &GdOptions::max_halvings, gd_range::max_halvings, "halvings per backtracking", "3"),
       K::boolean("gd", "escape", &GdOptions::escape, "lateral search of a stalled UAV (stall.h)", "false"),
-      K::integer("gd", "stall_window", &GdOptions::stall_window, 1, kIntMax, "stall window [iterations]", "10"),
-      K::real("gd", "stall_min_decrease", &GdOptions::stall_min_decrease, {},
+      K::integer("gd", "stall_window", &GdOptions::stall_window, gd_range::stall_window, "stall window [iterations]", "10"),
+      K::real("gd", "stall_min_decrease", &GdOptions::stall_min_decrease, gd_range::stall_min_decrease,
               "stalled below this relative decrease of f over the window", "0.02"),
       // The large-swarm keys only when set, so that the defaults' text (paper.ini) is unchanged.
-      K::integer("gd", "escape_half_grid", &GdOptions::escape_half_grid, 1, 256,
+      K::integer("gd", "escape_half_grid", &GdOptions::escape_half_grid, gd_range::escape_half_grid,
                  "escape grid: (2 h + 1)^2 lateral points", "6")
           .unless_default(),
-      K::integer("gd", "escape_uavs", &GdOptions::escape_uavs, 1, 100000, "UAVs that search at each stall", "2")
+      K::integer("gd", "escape_uavs", &GdOptions::escape_uavs, gd_range::escape_uavs, "UAVs that search at each stall", "2")
           .unless_default(),
-      K::real("gd", "depth_step_gain", &GdOptions::depth_step_gain, {},
+      K::real("gd", "depth_step_gain", &GdOptions::depth_step_gain, gd_range::depth_step_gain,
               "multiplies the step's component along the link", "4")
           .unless_default(),
   };
@@ -82,13 +83,13 @@ std::vector<common::Key<GdOptions>> gd_keys() {
 std::vector<common::Key<BfOptions>> bf_keys() {
   using K = common::Key<BfOptions>;
   return {
-      K::real("bf", "step", &BfOptions::step, {}, "initial probe step [m]", "0.2"),
-      K::real("bf", "decay", &BfOptions::decay, {}, "step decay per iteration", "0.99"),
-      K::real("bf", "contraction", &BfOptions::contraction, {}, "step factor after a failed compass round", "0.25"),
-      K::real("bf", "min_step_m", &BfOptions::min_step_m, {}, "smallest step [m]", "0.02"),
+      K::real("bf", "step", &BfOptions::step, bf_range::step, "initial probe step [m]", "0.2"),
+      K::real("bf", "decay", &BfOptions::decay, bf_range::decay, "step decay per iteration", "0.99"),
+      K::real("bf", "contraction", &BfOptions::contraction, bf_range::contraction, "step factor after a failed compass round", "0.25"),
+      K::real("bf", "min_step_m", &BfOptions::min_step_m, bf_range::min_step_m, "smallest step [m]", "0.02"),
       K::boolean("bf", "escape", &BfOptions::escape, "lateral search of a stalled UAV (stall.h)", "false"),
-      K::integer("bf", "stall_window", &BfOptions::stall_window, 1, kIntMax, "stall window [iterations]", "10"),
-      K::real("bf", "stall_min_decrease", &BfOptions::stall_min_decrease, {},
+      K::integer("bf", "stall_window", &BfOptions::stall_window, bf_range::stall_window, "stall window [iterations]", "10"),
+      K::real("bf", "stall_min_decrease", &BfOptions::stall_min_decrease, bf_range::stall_min_decrease,
               "stalled below this relative decrease of f over the window", "0.02"),
   };
 }

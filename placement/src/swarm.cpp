@@ -5,20 +5,13 @@
 #include <stdexcept>
 #include <string>
 
-#include "losmimo/common/field_error.h"
+#include "losmimo/common/range.h"
 
 namespace losmimo::placement {
 
 void validate(const ErrorModel& errors) {
-  const auto check = [](const char* field, double value) {
-    if (!(value >= 0.0 && value <= kMaxErrorSigma_m)) {
-      std::ostringstream msg;
-      msg << "errors." << field << " = " << value << ": must be in [0, 1e3] m";
-      throw common::FieldError(field, msg.str());
-    }
-  };
-  check("sigma_loc_m", errors.sigma_loc_m);
-  check("sigma_act_m", errors.sigma_act_m);
+  common::require_field_in(error_range::sigma_loc_m, errors.sigma_loc_m, "errors", "sigma_loc_m");
+  common::require_field_in(error_range::sigma_act_m, errors.sigma_act_m, "errors", "sigma_act_m");
 }
 
 Swarm::Swarm(const ChannelModel& model, const Eigen::Matrix3Xd& start_m, const ErrorModel& errors,

@@ -41,13 +41,13 @@ std::string temp_file(const std::string& name, const std::string& content) {
 // reported as "config: noise variance = 0", without the key).
 // THEN the key, its line and value are named.
 TEST(ScenarioLimits, OverflowingFiniteValues_AreRejectedNamingTheKey) {
-  expect_config_error("[scenario]\ncube_center_x_m = 1e300\n", {"bad.ini:2", "cube_center_x_m", "1e+300"});
+  expect_config_error("[scenario]\ncube_center_x_m = 1e300\n", {"bad.ini:2", "cube_center_x_m", "1e300"});
   expect_config_error("[scenario]\ncube_center_y_m = -2e7\n", {"bad.ini:2", "cube_center_y_m"});
   expect_config_error("[scenario]\ncube_side_m = 1e300\n", {"bad.ini:2", "cube_side_m"});
   expect_config_error("[scenario]\nbs_spacing_m = 1e300\n", {"bad.ini:2", "bs_spacing_m"});
   expect_config_error("[scenario]\n\ncarrier_hz = 1e-300\n", {"bad.ini:3", "carrier_hz"});
   expect_config_error("[scenario]\ncarrier_hz = 1e300\n", {"bad.ini:2", "carrier_hz"});
-  expect_config_error("[scenario]\nsnr_db = 1e5\n", {"bad.ini:2", "snr_db", "100000"});
+  expect_config_error("[scenario]\nsnr_db = 1e5\n", {"bad.ini:2", "snr_db", "1e5"});
   expect_config_error("[scenario]\nsnr_db = -1e5\n", {"bad.ini:2", "snr_db"});
 }
 
@@ -110,7 +110,7 @@ TEST(IniConfig, DirectoryAsConfig_IsAReadError) {
 // `--set experiment.sigma_loc_values_m=1e300` ran and stopped mid-sweep with exit code 1,
 // "assignment: non-finite cost"; `errors.sigma_act_m = 1e300` ran on NaN channels).
 TEST(ErrorSigmas, BeyondTheLimit_AreRejectedBeforeAnyWork) {
-  expect_config_error("[errors]\nsigma_act_m = 1e300\n", {"bad.ini:2", "sigma_act_m", "1e+300"});
+  expect_config_error("[errors]\nsigma_act_m = 1e300\n", {"bad.ini:2", "sigma_act_m", "1e300"});
   expect_config_error("[errors]\nsigma_loc_m = 1001\n", {"bad.ini:2", "sigma_loc_m"});
   try {
     losmimo::experiment::load_experiment_settings(

@@ -90,10 +90,9 @@ TEST(CoevaluationKeys, OldSpellings_AreRefusedNamingTheClosedLoopKey) {
 TEST(CoevaluationKeys, RuleFailures_NameTheKeyWithFileAndLine) {
   // The closed loop's own rules for the shared keys.
   EXPECT_EQ(error_of("[closed_loop]\nbeacon_sigma_range_m = -1\n"),
-            "c.ini:2: [closed_loop] beacon_sigma_range_m: localization: SimulatorConfig.sigma_range_m = -1 (must be "
-            "finite and >= 0)");
+            "c.ini:2: [closed_loop] beacon_sigma_range_m: -1: must be >= 0");
   EXPECT_EQ(error_of("[closed_loop]\n\ndr_sigma_floor_m = 0\n"),
-            "c.ini:3: [closed_loop] dr_sigma_floor_m: refinement.dr_sigma_floor_m = 0: must be a finite positive number");
+            "c.ini:3: [closed_loop] dr_sigma_floor_m: 0: must be > 0");
   // The co-evaluation's, across keys.
   EXPECT_EQ(error_of("[scenario]\nnum_uavs = 9\n[coevaluation]\nalgorithms = gd_ekf, ura_ekf\noutage_values = 0, 4\n"),
             "c.ini:4: [coevaluation] algorithms: ura_ekf needs scenario.num_uavs = bs_rows * bs_cols (16), got 9");

@@ -245,7 +245,7 @@ TEST(FilterConfigValidation, BadFields_ThrowNamingTheField) {
   expect_invalid(with([](FilterConfig& c) { c.ess_threshold = 0.0; }), "ess_threshold");
   expect_invalid(with([](FilterConfig& c) { c.gate_chi2 = -1.0; }), "gate_chi2");
   expect_invalid(with([](FilterConfig& c) { c.max_beacon_range_m = 0.0; }),
-                 "max_beacon_range_m = 0 (must be finite and > 0)");
+                 "filter.max_beacon_range_m = 0: must be > 0");
   expect_invalid(with([](FilterConfig& c) { c.max_beacon_range_m = -5.0; }),
                  "max_beacon_range_m = -5");
   expect_invalid(with([](FilterConfig& c) { c.max_beacon_range_m = kInf; }),

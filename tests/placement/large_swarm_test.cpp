@@ -138,7 +138,7 @@ TEST(Settings, EscapeKeys_AreReadValidatedAndWrittenOnlyWhenSet) {
   } catch (const losmimo::common::InputError& e) {
     const std::string msg = e.what();
     EXPECT_NE(msg.find("bad.ini"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("depth_step_gain = -2"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("[gd] depth_step_gain: -2: must be > 0"), std::string::npos) << msg;
   }
 }
 

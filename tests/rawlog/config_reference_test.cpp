@@ -28,7 +28,8 @@ std::string reference() {
          "\n## Experiment (`losmimo-experiment`)\n\n" + experiment::experiment_keys().markdown() +
          "\n## Co-evaluation sweeps (`losmimo-experiment`, `[experiment] sweeps = beacon_noise_m, "
          "beacon_outage`)\n\n" +
-         coevaluation::coevaluation_keys().markdown() +
+         coevaluation::coevaluation_keys().markdown({"coevaluation"}) +
+         "\nThe co-evaluation also reads the closed loop's sensor keys listed below (`[closed_loop]`).\n"
          "\n## Closed loop (`losmimo-record`, and the co-evaluation's shared settings)\n\n" +
          fusion::closed_loop_keys().markdown() + "\n## Mission (`losmimo-record`)\n\n" +
          rawlog::mission_keys().markdown();

@@ -68,30 +68,22 @@ TEST(MissionKeys, EveryRefusedValue_NamesFileLineAndKey) {
 }
 
 TEST(MissionKeys, RuleFailures_NameTheKeyThatSetTheField) {
-  // validate(SimulatorConfig), (FilterConfig), (RefinementConfig) and (ClosedLoopConfig), each
-  // failing field reported as its key.
+  // The ranges of SimulatorConfig, FilterConfig, RefinementConfig and ClosedLoopConfig, read
+  // with the key; a key that sets several fields takes the strictest field's range.
   EXPECT_EQ(error_of("[closed_loop]\nbeacon_sigma_range_m = -1\n"),
-            "m.ini:2: [closed_loop] beacon_sigma_range_m: localization: SimulatorConfig.sigma_range_m = -1 (must be "
-            "finite and >= 0)");
-  EXPECT_EQ(error_of("[closed_loop]\noutlier_fraction = 2\n"),
-            "m.ini:2: [closed_loop] outlier_fraction: localization: SimulatorConfig.outlier_fraction = 2 (must be in "
-            "[0, 1])");
-  EXPECT_EQ(error_of("[closed_loop]\ndr_sigma_floor_m = 0\n"),
-            "m.ini:2: [closed_loop] dr_sigma_floor_m: refinement.dr_sigma_floor_m = 0: must be a finite positive number");
+            "m.ini:2: [closed_loop] beacon_sigma_range_m: -1: must be >= 0");
+  EXPECT_EQ(error_of("[closed_loop]\noutlier_fraction = 2\n"), "m.ini:2: [closed_loop] outlier_fraction: 2: must be in [0, 1]");
+  EXPECT_EQ(error_of("[closed_loop]\ndr_sigma_floor_m = 0\n"), "m.ini:2: [closed_loop] dr_sigma_floor_m: 0: must be > 0");
   EXPECT_EQ(error_of("[closed_loop]\nbeacon_sigma_range_m = 0.5\nfilter_sigma_range_m = -0.5\n"),
-            "m.ini:3: [closed_loop] filter_sigma_range_m: localization: noise.sigma_range_m = -0.5 (must be finite and "
-            ">= 0)");
-  EXPECT_EQ(error_of("[closed_loop]\nfilter_sigma_angle_rad = 0\n"),
-            "m.ini:2: [closed_loop] filter_sigma_angle_rad: refinement.beacon_sigma_angle_rad = 0: must be a finite "
-            "positive number");
+            "m.ini:3: [closed_loop] filter_sigma_range_m: -0.5: must be > 0");
+  EXPECT_EQ(error_of("[closed_loop]\nfilter_sigma_angle_rad = 0\n"), "m.ini:2: [closed_loop] filter_sigma_angle_rad: 0: must be > 0");
   EXPECT_EQ(error_of("[closed_loop]\nfilter_max_beacon_range_m = 0\n"),
-            "m.ini:2: [closed_loop] filter_max_beacon_range_m: localization: max_beacon_range_m = 0 (must be finite and "
-            "> 0)");
+            "m.ini:2: [closed_loop] filter_max_beacon_range_m: 0: must be > 0");
   // A filter assuming the true noise: the beacon key is named though the filter's copy is bad too.
   EXPECT_EQ(error_of("[closed_loop]\nbeacon_sigma_angle_rad = -1\n").rfind("m.ini:2: [closed_loop] beacon_sigma_angle_rad: ", 0), 0u);
   // A matched zero noise breaks the refinement's rule on a key not given: named without a line.
   EXPECT_EQ(error_of("[closed_loop]\nbeacon_sigma_angle_rad = 0\n"),
-            "[closed_loop] filter_sigma_angle_rad: refinement.beacon_sigma_angle_rad = 0: must be a finite positive number");
+            "[closed_loop] filter_sigma_angle_rad: refinement.beacon_sigma_angle_rad = 0: must be > 0");
   // UAV indices beyond the swarm (16 UAVs), and the rule across faults, refine and use_csi.
   EXPECT_EQ(error_of("[closed_loop]\noutages = 1:0:4, 16:0:4\n"),
             "m.ini:2: [closed_loop] outages: closed_loop.outages[1].uav = 16: must be < the number of UAVs (16)");

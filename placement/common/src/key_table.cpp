@@ -5,31 +5,6 @@
 
 namespace losmimo::common {
 
-bool Range::contains(double value) const {
-  const bool above_lo = lo_open ? value > lo : value >= lo;
-  const bool below_hi = hi_open ? value < hi : value <= hi;
-  return above_lo && below_hi;
-}
-
-std::string Range::describe() const {
-  const bool has_lo = std::isfinite(lo);
-  const bool has_hi = std::isfinite(hi);
-  if (has_lo && has_hi) {
-    return std::string("in ") + (lo_open ? "(" : "[") + format_double(lo) + ", " + format_double(hi) +
-           (hi_open ? ")" : "]");
-  }
-  if (has_lo) return (lo_open ? "> " : ">= ") + format_double(lo);
-  if (has_hi) return (hi_open ? "< " : "<= ") + format_double(hi);
-  return "";
-}
-
-std::vector<double> Range::outside() const {
-  std::vector<double> values;
-  if (std::isfinite(lo)) values.push_back(lo_open ? lo : lo - std::max(1.0, std::abs(lo)));
-  if (std::isfinite(hi)) values.push_back(hi_open ? hi : hi + std::max(1.0, std::abs(hi)));
-  return values;
-}
-
 void require_in(const Range& range, double value, const std::string& text, const std::string& where) {
   if (!range.contains(value)) throw InputError(where + ": " + text + ": must be " + range.describe());
 }

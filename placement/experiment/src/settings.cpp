@@ -68,7 +68,6 @@ std::string join_names(const std::vector<T>& items, Name name) {
 
 std::vector<common::Key<ExperimentSettings>> experiment_key_list() {
   using K = common::Key<ExperimentSettings>;
-  const common::Range sigma_range = common::Range::closed(0.0, placement::kMaxErrorSigma_m);
   return {
       K::integer("experiment", "trials", &ExperimentSettings::trials, 1, 1'000'000,
                  "random starts per sweep point (the paper: 500)", "3"),
@@ -76,10 +75,10 @@ std::vector<common::Key<ExperimentSettings>> experiment_key_list() {
                  "base seed; every number of a trial derives from it", "7"),
       // Read before `sweeps`, which takes the built-in sweeps' values from here.
       K::real_list("experiment", "sigma_loc_values_m",
-                   [](auto& s) -> auto& { return builtin_values(s, kSweepSigmaLoc); }, sigma_range, "sweep points of sigma_loc_m [m]", "0, 0.1")
+                   [](auto& s) -> auto& { return builtin_values(s, kSweepSigmaLoc); }, placement::error_range::sigma_loc_m, "sweep points of sigma_loc_m [m]", "0, 0.1")
           .written_if([](const ExperimentSettings& s) { return s.sweep(kSweepSigmaLoc) != nullptr; }),
       K::real_list("experiment", "sigma_act_values_m",
-                   [](auto& s) -> auto& { return builtin_values(s, kSweepSigmaAct); }, sigma_range, "sweep points of sigma_act_m [m]", "0.05")
+                   [](auto& s) -> auto& { return builtin_values(s, kSweepSigmaAct); }, placement::error_range::sigma_act_m, "sweep points of sigma_act_m [m]", "0.05")
           .written_if([](const ExperimentSettings& s) { return s.sweep(kSweepSigmaAct) != nullptr; }),
       K::text("experiment", "sweeps",
               [](ExperimentSettings& s, const std::string& text, const std::string& where) {

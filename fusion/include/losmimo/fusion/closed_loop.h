@@ -137,7 +137,16 @@ struct ClosedLoopConfig {
   int unresponsive_after_iterations = 3;
 };
 
-// Throws std::invalid_argument naming the first bad field and its value (the nested configs
+// The values each field accepts (validate() and the [closed_loop] keys); the nested configs' are
+// filter_range, simulator_range and refinement_range.
+namespace closed_loop_range {
+inline constexpr common::Range unresponsive_after_iterations = common::Range::closed(1, 1000);
+inline constexpr common::Range uav = common::Range::closed(0, 2147483647);  // an index; the swarm's size is checked in start()
+inline constexpr common::Range fault_from_iteration = common::Range::closed(1, 1e7);
+inline constexpr common::Range fault_num_iterations = common::Range::closed(0, 1e7);  // 0: to the end
+}  // namespace closed_loop_range
+
+// Throws common::FieldError naming the first bad field and its value (the nested configs
 // through their own validate()). UAV indices are checked against the swarm in start().
 void validate(const ClosedLoopConfig& config);
 

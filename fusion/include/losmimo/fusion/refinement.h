@@ -37,6 +37,7 @@
 
 #include "losmimo/fusion/csi.h"
 #include "losmimo/localization/filter.h"
+#include "losmimo/common/range.h"
 #include "losmimo/localization/measurements.h"
 #include "losmimo/placement/channel.h"
 #include "losmimo/placement/scenario.h"
@@ -62,7 +63,16 @@ struct RefinementConfig {
   double min_reciprocal_condition_number = 1e-14;
 };
 
-// Throws std::invalid_argument naming the first bad field and its value.
+// The values each field accepts (validate() and the keys that set them).
+namespace refinement_range {
+inline constexpr common::Range window_epochs = common::Range::closed(1, 64);
+inline constexpr common::Range positive = common::Range::above(0.0);  // the sigmas, CSI noise, prior cap
+inline constexpr common::Range dr_sigma_fraction = common::Range::at_least(0.0);
+inline constexpr common::Range max_iterations = common::Range::closed(1, 1000);
+inline constexpr common::Range min_reciprocal_condition_number = {0.0, 1.0, true, true};  // (0, 1)
+}  // namespace refinement_range
+
+// Throws common::FieldError naming the first bad field and its value.
 void validate(const RefinementConfig& config);
 
 // The filter's noise model and the scenario's CSI noise (Scenario::noise_variance()) as a

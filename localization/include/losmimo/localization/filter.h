@@ -37,6 +37,7 @@
 
 #include <Eigen/Core>
 
+#include "losmimo/common/range.h"
 #include "losmimo/localization/measurements.h"
 
 namespace losmimo::localization {
@@ -94,7 +95,20 @@ struct FilterConfig {
   double regularization_bandwidth = 0.2;
 };
 
-// Throws std::invalid_argument naming the first bad field and its value.
+// The values each field accepts (validate() and the keys that set them).
+namespace filter_range {
+inline constexpr common::Range sigma = common::Range::at_least(0.0);  // each of noise's four
+inline constexpr common::Range gate_chi2 = common::Range::above(0.0);
+inline constexpr common::Range reset_after_rejections = common::Range::at_least(0);
+inline constexpr common::Range max_beacon_range_m = common::Range::above(0.0);
+inline constexpr common::Range degraded_after_epochs = common::Range::closed(1, 1'000'000);
+inline constexpr common::Range positive = common::Range::above(0.0);  // the sigmas and floors below it
+inline constexpr common::Range num_particles = common::Range::closed(1, 1'000'000);
+inline constexpr common::Range ess_threshold = common::Range::above_up_to(0.0, 1.0);
+inline constexpr common::Range regularization_bandwidth = {0.0, 1.0, false, true};  // [0, 1)
+}  // namespace filter_range
+
+// Throws common::FieldError naming the first bad field and its value.
 void validate(const FilterConfig& config);
 // Throws std::invalid_argument if the belief is non-finite or its covariance not SPD.
 void validate(const Belief& belief);

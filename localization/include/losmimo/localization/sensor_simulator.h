@@ -24,6 +24,7 @@
 
 #include <Eigen/Core>
 
+#include "losmimo/common/range.h"
 #include "losmimo/localization/measurements.h"
 
 namespace losmimo::localization {
@@ -46,7 +47,15 @@ struct SimulatorConfig {
   double sigma_act_m = 0.0;  // actuation error, used by actuate() only
 };
 
-// Throws std::invalid_argument naming the first bad field and its value.
+// The values each field accepts (validate() and the keys that set them).
+namespace simulator_range {
+inline constexpr common::Range sigma = common::Range::at_least(0.0);  // every *_sigma_* and sigma_act_m
+inline constexpr common::Range beacon_period_epochs = common::Range::closed(1, 1'000'000);
+inline constexpr common::Range outlier_fraction = common::Range::closed(0.0, 1.0);
+inline constexpr common::Range outage_epoch = common::Range::closed(0, 1e9);  // first_epoch, num_epochs
+}  // namespace simulator_range
+
+// Throws common::FieldError naming the first bad field and its value.
 void validate(const SimulatorConfig& config);
 
 class SensorSimulator {

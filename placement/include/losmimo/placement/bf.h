@@ -28,6 +28,15 @@ struct BfOptions {
   int stall_window = 20;
   double stall_min_decrease = 0.01;
 };
+// The values each option accepts (validate() and the [bf] keys).
+namespace bf_range {
+inline constexpr common::Range step = common::Range::above_up_to(0.0, 1e6);
+inline constexpr common::Range decay = common::Range::above_up_to(0.0, 1.0);
+inline constexpr common::Range contraction = common::Range::above_up_to(0.0, 1.0);
+inline constexpr common::Range min_step_m = common::Range::above_up_to(0.0, 1e6);
+inline constexpr common::Range stall_window = common::Range::closed(1, 100000);
+inline constexpr common::Range stall_min_decrease = common::Range::above_up_to(0.0, 1.0);
+}  // namespace bf_range
 void validate(const BfOptions& options);
 
 class BruteForcePlanner : public Planner {

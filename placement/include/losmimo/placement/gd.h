@@ -57,6 +57,18 @@ struct GdOptions {
   // the UAVs to even out their depths; 1 leaves the step as the paper's.
   double depth_step_gain = 1.0;
 };
+// The values each option accepts (validate() and the [gd] keys).
+namespace gd_range {
+inline constexpr common::Range step = common::Range::above(0.0);
+inline constexpr common::Range decay = common::Range::above_up_to(0.0, 1.0);
+inline constexpr common::Range max_move_m = common::Range::above(0.0);
+inline constexpr common::Range max_halvings = common::Range::closed(0, 60);
+inline constexpr common::Range stall_window = common::Range::closed(1, 100000);
+inline constexpr common::Range stall_min_decrease = common::Range::above(0.0);
+inline constexpr common::Range escape_half_grid = common::Range::closed(1, 256);
+inline constexpr common::Range escape_uavs = common::Range::closed(1, 100000);
+inline constexpr common::Range depth_step_gain = common::Range::above(0.0);
+}  // namespace gd_range
 void validate(const GdOptions& options);
 
 class GradientDescentPlanner : public Planner {

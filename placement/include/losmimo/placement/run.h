@@ -54,6 +54,13 @@ struct RunOptions {
   // untraced runs use it (runs under errors spend most iterations far below the target).
   bool full_icn_trace = true;
 };
+// The values each option accepts (validate() and the [placement] keys).
+namespace run_range {
+inline constexpr common::Range target_icn = common::Range::above_up_to(0.0, 1.0);
+// 0 evaluates the start only (the random and URA baselines); a configured run needs >= 1.
+inline constexpr common::Range max_iterations = common::Range::closed(0, 10'000'000);
+inline constexpr common::Range noise_variance = common::Range::above(0.0);
+}  // namespace run_range
 void validate(const RunOptions& options);
 
 struct IterationRecord {

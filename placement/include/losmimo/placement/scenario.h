@@ -12,6 +12,8 @@
 #include <random>
 #include <string>
 
+#include "losmimo/common/range.h"
+
 namespace losmimo::placement {
 
 // Path-loss model of one BS-antenna-to-UAV link.
@@ -44,7 +46,23 @@ struct Scenario {
   double noise_variance() const;
 };
 
-// Throws std::invalid_argument naming the first bad field and its value.
+// The values each field accepts (validate() and the [scenario] keys). Within them every derived
+// quantity (wavelength, range, distances, phases, noise variance 10^(-snr_db/10)) is finite;
+// finite values beyond overflow (a 1e300 m cube centre gives an infinite range and a NaN
+// channel; snr_db = 1e5 a zero noise variance).
+namespace scenario_range {
+inline constexpr common::Range bs_rows = common::Range::closed(1, 64);
+inline constexpr common::Range bs_cols = common::Range::closed(1, 64);
+inline constexpr common::Range bs_spacing_m = common::Range::above_up_to(0.0, 1e3);
+inline constexpr common::Range carrier_hz = common::Range::closed(1e3, 1e15);
+inline constexpr common::Range num_uavs = common::Range::closed(1, 4096);
+inline constexpr common::Range cube_side_m = common::Range::closed(0.0, 1e7);
+inline constexpr common::Range cube_center_m = common::Range::closed(-1e7, 1e7);  // each axis
+inline constexpr common::Range snr_db = common::Range::closed(-300.0, 300.0);
+}  // namespace scenario_range
+
+// Throws common::FieldError naming the first bad field and its value; beyond the ranges, the
+// start cube must lie entirely in front of the BS (x > 0).
 void validate(const Scenario& scenario);
 
 // BS antenna positions (3 x Nt, metres), in the order described above.

@@ -24,10 +24,13 @@ struct ErrorModel {
   double sigma_loc_m = 0.0;
   double sigma_act_m = 0.0;
 };
-// Largest accepted sigma: beyond ~1e154 m a drawn position overflows the channel's distances
-// (1e300 used to run with NaN channels, or stop mid-sweep with "non-finite cost").
-inline constexpr double kMaxErrorSigma_m = 1e3;
-// Throws std::invalid_argument naming the field if a sigma is not in [0, kMaxErrorSigma_m].
+// The values each sigma accepts (validate() and the [errors] keys). The bound: beyond ~1e154 m a
+// drawn position overflows the channel's distances (1e300 ran with NaN channels).
+namespace error_range {
+inline constexpr common::Range sigma_loc_m = common::Range::closed(0.0, 1e3);
+inline constexpr common::Range sigma_act_m = common::Range::closed(0.0, 1e3);
+}  // namespace error_range
+// Throws common::FieldError naming the field if a sigma is out of its range.
 void validate(const ErrorModel& errors);
 
 enum class MotionKind { kPlacement, kProbe };

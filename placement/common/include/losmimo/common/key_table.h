@@ -33,29 +33,11 @@
 #include "losmimo/common/format.h"
 #include "losmimo/common/ini_config.h"
 #include "losmimo/common/input_error.h"
+#include "losmimo/common/range.h"
 
 namespace losmimo::common {
 
 enum class Kind { kDouble, kInteger, kBool, kText, kList };
-
-// The values a number accepts: lo .. hi, either end open (default: any finite number).
-struct Range {
-  double lo = -std::numeric_limits<double>::infinity();
-  double hi = std::numeric_limits<double>::infinity();
-  bool lo_open = false;
-  bool hi_open = false;
-
-  static Range at_least(double lo) { return {lo, std::numeric_limits<double>::infinity(), false, false}; }
-  static Range above(double lo) { return {lo, std::numeric_limits<double>::infinity(), true, false}; }
-  static Range closed(double lo, double hi) { return {lo, hi, false, false}; }
-  static Range above_up_to(double lo, double hi) { return {lo, hi, true, false}; }  // (lo, hi]
-
-  bool contains(double value) const;
-  // "in [0, 1000]", ">= 0", "> 0", "in (0, 86400]"; "" for any value.
-  std::string describe() const;
-  // Values just outside, for tests: lo itself when open, else below it; likewise above hi.
-  std::vector<double> outside() const;
-};
 
 // "origin:line: [section] key: <text>: must be <range>" unless range contains value.
 void require_in(const Range& range, double value, const std::string& text, const std::string& where);
@@ -148,6 +130,14 @@ struct Key {
     };
     k.write = [ref](const S& s, DoubleFormat) { return std::to_string(ref(s)); };
     return k;
+  }
+
+  // The same with the bounds as a closed Range (declared beside the struct, range.h).
+  template <typename Field>
+  static Key integer(std::string section, std::string key, Field field, Range range, std::string doc,
+                     std::string example) {
+    return integer(std::move(section), std::move(key), field, static_cast<long long>(range.lo),
+                   static_cast<long long>(range.hi), std::move(doc), std::move(example));
   }
 
   // true/false (also 1/0, yes/no, on/off when read).
@@ -391,8 +381,9 @@ class KeyTable {
     return out;
   }
 
-  // "| [section] | key | default | values | meaning |" rows, one per key, defaults from S{}.
-  std::string markdown() const {
+  // "| [section] | key | default | values | meaning |" rows, one per key of `sections` (all when
+  // empty), defaults from S{}.
+  std::string markdown(const std::set<std::string>& sections = {}) const {
     std::string out = "| section | key | default | values | meaning |\n|---|---|---|---|---|\n";
     // On the heap: GCC 12 at -O3 takes the inlined default members of a large S for
     // maybe-uninitialised on the stack.
@@ -404,7 +395,8 @@ class KeyTable {
       return escaped;
     };
     for (const Key<S>& k : keys_) {
-      out += "| [" + k.section + "] | " + k.key + " | " + cell(k.write(*defaults, format_)) + " | " + cell(k.rule) +
+      if (!sections.empty() && sections.count(k.section) == 0) continue;
+      out += "| [" + k.section + "] | " + k.key + " | " + cell(k.write(*defaults, &format_double)) + " | " + cell(k.rule) +
              " | " + cell(k.doc) + " |\n";
     }
     return out;
