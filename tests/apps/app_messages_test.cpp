@@ -13,6 +13,7 @@
 
 #include "losmimo/apps/eval_app.h"
 #include "losmimo/apps/experiment_app.h"
+#include "in_process.h"
 
 namespace losmimo::apps {
 namespace {
@@ -21,13 +22,6 @@ namespace fs = std::filesystem;
 
 fs::path temp(const std::string& name) {
   return fs::path(::testing::TempDir()) / ("losmimo_msg_" + std::to_string(::getpid()) + "_" + name);
-}
-
-int experiment(const ExperimentOptions& o, std::string* err_text) {
-  std::ostringstream out, err;
-  const int code = run_experiment_app(o, {}, out, err);
-  *err_text = err.str();
-  return code;
 }
 
 int eval(const EvalOptions& o, std::string* err_text) {
@@ -44,15 +38,15 @@ TEST(AppOptions, EmptyShardOutOrResume_AreRefusedBeforeAnyWork) {
   ExperimentOptions o;
   o.out_dir = temp("x").string();
   o.shard = "";
-  EXPECT_EQ(experiment(o, &err), 2);
+  EXPECT_EQ(test_support::run_experiment(o, &err), 2);
   EXPECT_NE(err.find("--shard ''"), std::string::npos) << err;
   o.shard.reset();
   o.out_dir = "";
-  EXPECT_EQ(experiment(o, &err), 2);
+  EXPECT_EQ(test_support::run_experiment(o, &err), 2);
   EXPECT_NE(err.find("--out ''"), std::string::npos) << err;
   o.out_dir.reset();
   o.resume_dir = "";
-  EXPECT_EQ(experiment(o, &err), 2);
+  EXPECT_EQ(test_support::run_experiment(o, &err), 2);
   EXPECT_NE(err.find("--resume ''"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(temp("x")));
 }
@@ -62,7 +56,7 @@ TEST(AppOptions, ResumeWithAnotherOut_IsRefused) {
   ExperimentOptions o;
   o.resume_dir = temp("run").string();
   o.out_dir = temp("other").string();
-  EXPECT_EQ(experiment(o, &err), 2);
+  EXPECT_EQ(test_support::run_experiment(o, &err), 2);
   EXPECT_NE(err.find("finishes the run in " + temp("run").string() + " itself"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(temp("other")));
 }
@@ -72,12 +66,12 @@ TEST(AppOptions, TrialsOrThreadsOutOfRange_NameTheOptionNotSet) {
   ExperimentOptions o;
   o.out_dir = temp("t").string();
   o.trials = 2'000'000;
-  EXPECT_EQ(experiment(o, &err), 2);
+  EXPECT_EQ(test_support::run_experiment(o, &err), 2);
   EXPECT_NE(err.find("--trials: [experiment] trials: 2000000 is out of range"), std::string::npos) << err;
   EXPECT_EQ(err.find("--set"), std::string::npos) << err;
   o.trials = 0;
   o.threads = 5000;
-  EXPECT_EQ(experiment(o, &err), 2);
+  EXPECT_EQ(test_support::run_experiment(o, &err), 2);
   EXPECT_NE(err.find("--threads: [experiment] threads"), std::string::npos) << err;
 }
 
@@ -124,7 +118,7 @@ TEST(AppSettings, SweepValueListedTwice_IsRefused) {
   ExperimentOptions o;
   o.out_dir = temp("dup").string();
   o.overrides = {"experiment.sigma_loc_values_m=0, 0"};
-  EXPECT_EQ(experiment(o, &err), 2);
+  EXPECT_EQ(test_support::run_experiment(o, &err), 2);
   EXPECT_NE(err.find("[experiment] sigma_loc_values_m: '0' listed twice"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(temp("dup.partial")));
 }
@@ -135,7 +129,7 @@ TEST(AppSettings, ZeroIterations_IsRefused) {
   ExperimentOptions o;
   o.out_dir = temp("zero").string();
   o.overrides = {"placement.max_iterations=0"};
-  EXPECT_EQ(experiment(o, &err), 2);
+  EXPECT_EQ(test_support::run_experiment(o, &err), 2);
   EXPECT_NE(err.find("[placement] max_iterations: 0 is out of range [1, "), std::string::npos) << err;
 }
 
@@ -145,7 +139,7 @@ TEST(AppSettings, UraLatticeOnAnotherSwarm_NamesUraLattice) {
   ExperimentOptions o;
   o.out_dir = temp("lattice").string();
   o.overrides = {"scenario.num_uavs=5", "experiment.algorithms=gd, ura_lattice"};
-  EXPECT_EQ(experiment(o, &err), 2);
+  EXPECT_EQ(test_support::run_experiment(o, &err), 2);
   EXPECT_NE(err.find("ura_lattice needs scenario.num_uavs = bs_rows * bs_cols (16), got 5"), std::string::npos) << err;
 }
 

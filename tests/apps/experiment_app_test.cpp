@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "losmimo/apps/experiment_app.h"
+#include "in_process.h"
 #include "losmimo/experiment/engine.h"
 #include "losmimo/experiment/summary.h"
 #include "losmimo/placement/metrics.h"
@@ -49,13 +50,6 @@ losmimo::apps::ExperimentOptions tiny(const std::string& out, int threads) {
   return o;
 }
 
-int run(const losmimo::apps::ExperimentOptions& o, std::string* err_text = nullptr) {
-  std::ostringstream out, err;
-  const int code = losmimo::apps::run_experiment_app(o, {}, out, err);
-  if (err_text) *err_text = err.str();
-  return code;
-}
-
 class ExperimentApp : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -65,8 +59,8 @@ class ExperimentApp : public ::testing::Test {
     dir2_ = fs::path(::testing::TempDir()) / ("losmimo_exp_t2_" + pid);
     fs::remove_all(dir1_);
     fs::remove_all(dir2_);
-    ASSERT_EQ(run(tiny(dir1_.string(), 1)), 0);
-    ASSERT_EQ(run(tiny(dir2_.string(), 2)), 0);
+    ASSERT_EQ(losmimo::test_support::run_experiment(tiny(dir1_.string(), 1)), 0);
+    ASSERT_EQ(losmimo::test_support::run_experiment(tiny(dir2_.string(), 2)), 0);
   }
   static fs::path dir1_, dir2_;
 };
@@ -165,7 +159,7 @@ TEST(ExperimentConfig, BadValues_StopBeforeAnyWorkNamingTheKey) {
     fs::remove_all(*o.out_dir);
     o.overrides = {override_text};
     std::string err;
-    EXPECT_EQ(run(o, &err), 2) << override_text;
+    EXPECT_EQ(losmimo::test_support::run_experiment(o, &err), 2) << override_text;
     EXPECT_NE(err.find(key), std::string::npos) << err;
     EXPECT_FALSE(fs::exists(*o.out_dir)) << "work started for " << override_text;
     EXPECT_FALSE(fs::exists(*o.out_dir + ".partial")) << "work started for " << override_text;
@@ -181,7 +175,7 @@ TEST(ExperimentAlgorithms, UraLatticeExact_IsSelectableAndConvergesWithoutErrors
   o.threads = 1;
   o.overrides = {"experiment.trials=2", "experiment.sweeps=sigma_loc_m", "experiment.sigma_loc_values_m=0",
                  "experiment.algorithms=ura_lattice_exact", "experiment.plots=false", "experiment.fig1_trials=0"};
-  ASSERT_EQ(run(o), 0);
+  ASSERT_EQ(losmimo::test_support::run_experiment(o), 0);
   const auto rows = read_csv(dir / "trials.csv");
   ASSERT_EQ(rows.size(), 3u);
   for (std::size_t i = 1; i < rows.size(); ++i) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "losmimo/apps/experiment_app.h"
+#include "in_process.h"
 #include "losmimo/common/input_error.h"
 #include "losmimo/experiment/engine.h"
 #include "losmimo/experiment/records.h"
@@ -38,33 +39,16 @@ losmimo::apps::ExperimentOptions tiny(const fs::path& out, int threads) {
   return o;
 }
 
-int run(const losmimo::apps::ExperimentOptions& o, std::string* err_text = nullptr) {
-  std::ostringstream out, err;
-  const int code = losmimo::apps::run_experiment_app(o, {}, out, err);
-  if (err_text) *err_text = err.str();
-  return code;
-}
-
-int merge(const std::vector<fs::path>& dirs, const fs::path& out_dir, std::string* err_text = nullptr) {
-  losmimo::apps::MergeOptions o;
-  for (const fs::path& p : dirs) o.shard_dirs.push_back(p.string());
-  o.out_dir = out_dir.string();
-  std::ostringstream out, err;
-  const int code = losmimo::apps::merge_experiment_app(o, {}, out, err);
-  if (err_text) *err_text = err.str();
-  return code;
-}
-
 class ExperimentShards : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     root_ = fs::path(::testing::TempDir()) / ("losmimo_shard_" + std::to_string(::getpid()));
     fs::remove_all(root_);
-    ASSERT_EQ(run(tiny(root_ / "single", 2)), 0);
+    ASSERT_EQ(losmimo::test_support::run_experiment(tiny(root_ / "single", 2)), 0);
     for (int i = 0; i < kShards; ++i) {
       losmimo::apps::ExperimentOptions o = tiny(shard_dir(i), 1 + i % 2);
       o.shard = std::to_string(i) + "/" + std::to_string(kShards);
-      ASSERT_EQ(run(o), 0) << *o.shard;
+      ASSERT_EQ(losmimo::test_support::run_experiment(o), 0) << *o.shard;
     }
   }
   static void TearDownTestSuite() { fs::remove_all(root_); }
@@ -89,7 +73,7 @@ TEST(ExperimentShard, BadShardOption_ExitsWith2BeforeAnyWork) {
     losmimo::apps::ExperimentOptions o = tiny(dir, 1);
     o.shard = bad;
     std::string err;
-    EXPECT_EQ(run(o, &err), 2) << bad;
+    EXPECT_EQ(losmimo::test_support::run_experiment(o, &err), 2) << bad;
     EXPECT_NE(err.find(bad), std::string::npos) << err;
     EXPECT_FALSE(fs::exists(dir)) << bad;
   }
@@ -97,7 +81,7 @@ TEST(ExperimentShard, BadShardOption_ExitsWith2BeforeAnyWork) {
 
 TEST_F(ExperimentShards, Merge_IsByteIdenticalToOneProcess) {
   const fs::path merged = root_ / "merged";
-  ASSERT_EQ(merge({shard_dir(0), shard_dir(1), shard_dir(2)}, merged), 0);
+  ASSERT_EQ(losmimo::test_support::run_merge({shard_dir(0), shard_dir(1), shard_dir(2)}, merged), 0);
   for (const char* f : {"trials.csv", "summary.csv", "positions.csv", "traces.csv"}) {
     ASSERT_GT(read_file(root_ / "single" / f).size(), 100u) << f;
     EXPECT_EQ(read_file(merged / f), read_file(root_ / "single" / f)) << f;
@@ -106,7 +90,7 @@ TEST_F(ExperimentShards, Merge_IsByteIdenticalToOneProcess) {
 
 TEST_F(ExperimentShards, ShardsInAnyOrder_MergeTheSame) {
   const fs::path merged = root_ / "merged_reordered";
-  ASSERT_EQ(merge({shard_dir(2), shard_dir(0), shard_dir(1)}, merged), 0);
+  ASSERT_EQ(losmimo::test_support::run_merge({shard_dir(2), shard_dir(0), shard_dir(1)}, merged), 0);
   EXPECT_EQ(read_file(merged / "trials.csv"), read_file(root_ / "single" / "trials.csv"));
   EXPECT_EQ(read_file(merged / "summary.csv"), read_file(root_ / "single" / "summary.csv"));
 }
@@ -130,20 +114,20 @@ TEST_F(ExperimentShards, EveryJobRunsInExactlyOneShard) {
 
 TEST_F(ExperimentShards, MissingShard_Exits2NamingIt) {
   std::string err;
-  EXPECT_EQ(merge({shard_dir(0), shard_dir(2)}, root_ / "m_missing", &err), 2);
+  EXPECT_EQ(losmimo::test_support::run_merge({shard_dir(0), shard_dir(2)}, root_ / "m_missing", &err), 2);
   EXPECT_NE(err.find("missing shard(s) 1 of 3"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(root_ / "m_missing" / "trials.csv"));
 }
 
 TEST_F(ExperimentShards, RepeatedShard_Exits2) {
   std::string err;
-  EXPECT_EQ(merge({shard_dir(0), shard_dir(1), shard_dir(1), shard_dir(2)}, root_ / "m_twice", &err), 2);
+  EXPECT_EQ(losmimo::test_support::run_merge({shard_dir(0), shard_dir(1), shard_dir(1), shard_dir(2)}, root_ / "m_twice", &err), 2);
   EXPECT_NE(err.find("given twice"), std::string::npos) << err;
 }
 
 TEST_F(ExperimentShards, NotAShardFolder_Exits2) {
   std::string err;
-  EXPECT_EQ(merge({shard_dir(0), root_ / "single", shard_dir(2)}, root_ / "m_notshard", &err), 2);
+  EXPECT_EQ(losmimo::test_support::run_merge({shard_dir(0), root_ / "single", shard_dir(2)}, root_ / "m_notshard", &err), 2);
   EXPECT_NE(err.find("holds a finished experiment, not a shard"), std::string::npos) << err;
 }
 
@@ -152,9 +136,9 @@ TEST_F(ExperimentShards, ShardOfAnotherConfig_Exits2) {
   losmimo::apps::ExperimentOptions o = tiny(other, 1);
   o.overrides.push_back("experiment.seed=7");
   o.shard = "1/3";
-  ASSERT_EQ(run(o), 0);
+  ASSERT_EQ(losmimo::test_support::run_experiment(o), 0);
   std::string err;
-  EXPECT_EQ(merge({shard_dir(0), other, shard_dir(2)}, root_ / "m_other", &err), 2);
+  EXPECT_EQ(losmimo::test_support::run_merge({shard_dir(0), other, shard_dir(2)}, root_ / "m_other", &err), 2);
   EXPECT_NE(err.find("differs"), std::string::npos) << err;
   EXPECT_NE(err.find("seed"), std::string::npos) << err;
 }
@@ -163,9 +147,9 @@ TEST_F(ExperimentShards, ShardsOfAnotherCount_Exit2) {
   const fs::path other = root_ / "other_count";
   losmimo::apps::ExperimentOptions o = tiny(other, 1);
   o.shard = "1/2";
-  ASSERT_EQ(run(o), 0);
+  ASSERT_EQ(losmimo::test_support::run_experiment(o), 0);
   std::string err;
-  EXPECT_EQ(merge({shard_dir(0), other}, root_ / "m_count", &err), 2);
+  EXPECT_EQ(losmimo::test_support::run_merge({shard_dir(0), other}, root_ / "m_count", &err), 2);
   EXPECT_NE(err.find("of 2"), std::string::npos) << err;
 }
 
@@ -177,7 +161,7 @@ TEST_F(ExperimentShards, TruncatedShardRecords_Exit2) {
   std::ofstream(copy / "records.csv", std::ios::binary) << records.substr(0, records.size() / 2);
   // The manifest catches the change first; without it (listing nothing) the records do.
   std::string err;
-  EXPECT_EQ(merge({shard_dir(0), copy, shard_dir(2)}, root_ / "m_truncated", &err), 2);
+  EXPECT_EQ(losmimo::test_support::run_merge({shard_dir(0), copy, shard_dir(2)}, root_ / "m_truncated", &err), 2);
 }
 
 namespace {
@@ -223,7 +207,7 @@ TEST_F(ExperimentShards, MergedReport_GivesTheShardsOwnTiming) {
     slowest_s = std::max(slowest_s, s);
     sum_s += s;
   }
-  ASSERT_EQ(merge({shard_dir(0), shard_dir(1), shard_dir(2)}, root_ / "m_timing"), 0);
+  ASSERT_EQ(losmimo::test_support::run_merge({shard_dir(0), shard_dir(1), shard_dir(2)}, root_ / "m_timing"), 0);
   const std::string report = read_file(root_ / "m_timing" / "report.md");
   // Shards 0 and 2 ran 1 thread, shard 1 ran 2 (the fixture).
   const std::string expected = "merged from 3 shards of 1 to 2 threads: slowest " + one_decimal(slowest_s) +
@@ -234,7 +218,7 @@ TEST_F(ExperimentShards, MergedReport_GivesTheShardsOwnTiming) {
 TEST_F(ExperimentShards, ShardsWithoutTiming_StillMergeAndSaySo) {
   std::vector<fs::path> dirs;
   for (int i = 0; i < kShards; ++i) dirs.push_back(copy_shard(root_, i, "untimed", i == 1 ? drop_timing : keep_all));
-  ASSERT_EQ(merge(dirs, root_ / "m_untimed"), 0);
+  ASSERT_EQ(losmimo::test_support::run_merge(dirs, root_ / "m_untimed"), 0);
   EXPECT_EQ(read_file(root_ / "m_untimed" / "summary.csv"), read_file(root_ / "single" / "summary.csv"));
   const std::string report = read_file(root_ / "m_untimed" / "report.md");
   EXPECT_NE(report.find("merged from 3 shards (their timing was not recorded); merge "), std::string::npos)
@@ -248,7 +232,7 @@ TEST_F(ExperimentShards, BadShardWallTime_Exits2NamingTheKey) {
       dirs.push_back(i == 2 ? copy_shard(root_, i, "badwall", drop_wall, bad) : shard_dir(i));
     }
     std::string err;
-    EXPECT_EQ(merge(dirs, root_ / "m_badwall", &err), 2) << bad;
+    EXPECT_EQ(losmimo::test_support::run_merge(dirs, root_ / "m_badwall", &err), 2) << bad;
     EXPECT_NE(err.find("wall_s"), std::string::npos) << err;
     EXPECT_FALSE(fs::exists(root_ / "m_badwall" / "summary.csv")) << bad;
   }

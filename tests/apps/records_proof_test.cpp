@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "losmimo/apps/experiment_app.h"
+#include "in_process.h"
 #include "losmimo/common/format.h"
 #include "losmimo/common/hash.h"
 #include "losmimo/common/input_error.h"
@@ -139,23 +140,6 @@ apps::ExperimentOptions tiny(const fs::path& out, const std::string& shard) {
   return o;
 }
 
-int run(const apps::ExperimentOptions& o, std::string* err_text = nullptr) {
-  std::ostringstream out, err;
-  const int code = apps::run_experiment_app(o, {}, out, err);
-  if (err_text) *err_text = err.str();
-  return code;
-}
-
-int merge(const std::vector<fs::path>& dirs, const fs::path& out_dir, std::string* err_text) {
-  apps::MergeOptions o;
-  for (const fs::path& d : dirs) o.shard_dirs.push_back(d.string());
-  o.out_dir = out_dir.string();
-  std::ostringstream out, err;
-  const int code = apps::merge_experiment_app(o, {}, out, err);
-  *err_text = err.str();
-  return code;
-}
-
 void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 
 // The r line with its status field (the 9th) replaced.
@@ -185,8 +169,8 @@ class RecordsProofApps : public ::testing::Test {
   void SetUp() override {
     root_ = fs::path(::testing::TempDir()) / ("losmimo_proof_" + std::to_string(::getpid()));
     fs::remove_all(root_);
-    ASSERT_EQ(run(tiny(root_ / "s0", "0/2")), 0);
-    ASSERT_EQ(run(tiny(root_ / "s1", "1/2")), 0);
+    ASSERT_EQ(test_support::run_experiment(tiny(root_ / "s0", "0/2")), 0);
+    ASSERT_EQ(test_support::run_experiment(tiny(root_ / "s1", "1/2")), 0);
   }
   void TearDown() override { fs::remove_all(root_); }
   fs::path root_;
@@ -198,11 +182,11 @@ TEST_F(RecordsProofApps, MergeOfAShardWithARecordDeleted_Exits2NamingFolderAndRe
   write(root_ / "s1" / "records.csv", join(l));
   std::string err;
   // The manifest sees the file changed...
-  EXPECT_EQ(merge({root_ / "s0", root_ / "s1"}, root_ / "m", &err), 2);
+  EXPECT_EQ(test_support::run_merge({root_ / "s0", root_ / "s1"}, root_ / "m", &err), 2);
   EXPECT_NE(err.find((root_ / "s1" / "records.csv").string() + ": changed since the run wrote it"), std::string::npos) << err;
   // ...and with the manifest made to agree, the records themselves.
   reseal(root_ / "s1", "records.csv");
-  EXPECT_EQ(merge({root_ / "s0", root_ / "s1"}, root_ / "m", &err), 2);
+  EXPECT_EQ(test_support::run_merge({root_ / "s0", root_ / "s1"}, root_ / "m", &err), 2);
   EXPECT_NE(err.find((root_ / "s1" / "records.csv").string() + ":"), std::string::npos) << err;
   EXPECT_NE(err.find("a record missing"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(root_ / "m"));
@@ -215,14 +199,14 @@ TEST_F(RecordsProofApps, MergeOfAShardWithARecordDuplicatedOrAltered_Exits2Namin
   write(root_ / "s0" / "records.csv", join(l));
   reseal(root_ / "s0", "records.csv");
   std::string err;
-  EXPECT_EQ(merge({root_ / "s0", root_ / "s1"}, root_ / "m", &err), 2);
+  EXPECT_EQ(test_support::run_merge({root_ / "s0", root_ / "s1"}, root_ / "m", &err), 2);
   EXPECT_NE(err.find("records.csv:4: record (point 0, trial 0, random) appears twice (also line 3)"), std::string::npos) << err;
 
   l = lines_of(original);
   l[2] = with_status(l[2], "tampered");
   write(root_ / "s0" / "records.csv", join(l));
   reseal(root_ / "s0", "records.csv");
-  EXPECT_EQ(merge({root_ / "s0", root_ / "s1"}, root_ / "m", &err), 2);
+  EXPECT_EQ(test_support::run_merge({root_ / "s0", root_ / "s1"}, root_ / "m", &err), 2);
   EXPECT_NE(err.find("records.csv:3: record (point 0, trial 0, random) was altered"), std::string::npos) << err;
 }
 
@@ -240,7 +224,7 @@ TEST_F(RecordsProofApps, ResumeOfACheckpointWithARecordAltered_Exits2NamingTheRe
   o.shard.reset();
   o.resume_dir = (root_ / "c").string();
   std::string err;
-  ASSERT_EQ(run(o, &err), 0) << err;
+  ASSERT_EQ(test_support::run_experiment(o, &err), 0) << err;
   EXPECT_EQ(read_file(root_ / "c" / "records.csv"), read_file(root_ / "s0" / "records.csv"));
   // WHEN: a value in a finished point is changed.
   fs::remove_all(root_ / "c");
@@ -249,7 +233,7 @@ TEST_F(RecordsProofApps, ResumeOfACheckpointWithARecordAltered_Exits2NamingTheRe
   l[2] = with_status(l[2], "tampered");
   write(staging / "records.partial", join(l));
   // THEN
-  EXPECT_EQ(run(o, &err), 2);
+  EXPECT_EQ(test_support::run_experiment(o, &err), 2);
   EXPECT_NE(err.find((staging / "records.partial").string() + ":3: record (point 0, trial 0, random) was altered"),
             std::string::npos)
       << err;

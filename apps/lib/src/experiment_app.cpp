@@ -200,15 +200,8 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
     } else {
       staged.emplace(StagedDir::create(dir, options.replace, common::StaleStaging::kRefuse));
     }
-  } catch (const common::OutputExistsError& e) {
-    print_output_exists(err, kApp, e, resume ? "--resume" : "--out");
-    return kExitBadInput;
-  } catch (const common::InputError& e) {
-    print_error(err, kApp, e.what());
-    return kExitBadInput;
-  } catch (const std::exception& e) {  // the output folder cannot be created
-    print_error(err, kApp, std::string("error: ") + e.what());
-    return kExitFailure;
+  } catch (...) {
+    return report_current_exception(err, kApp, resume ? "--resume" : "--out");
   }
 
   const int threads = threads_of(settings);
@@ -292,15 +285,8 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
     fs::rename(stage / "positions.csv.partial", stage / "positions.csv");
     detail::finish_and_publish(*staged, "experiment", settings, extensions, results, {wall_s, threads}, true, out, err);
     return kExitOk;
-  } catch (const common::OutputExistsError& e) {
-    print_output_exists(err, kApp, e, "--out");
-    return kExitBadInput;
-  } catch (const common::InputError& e) {
-    print_error(err, kApp, e.what());
-    return kExitBadInput;
-  } catch (const std::exception& e) {
-    print_error(err, kApp, std::string("error: ") + e.what());
-    return kExitFailure;
+  } catch (...) {
+    return report_current_exception(err, kApp);
   }
 }
 

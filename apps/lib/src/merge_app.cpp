@@ -113,15 +113,8 @@ int merge_experiment_app(const MergeOptions& options, const ExperimentExtensions
       }
     }
     results = merge_shard_records(settings, shards, origins);
-  } catch (const common::OutputExistsError& e) {
-    print_output_exists(err, kApp, e, "--out");
-    return kExitBadInput;
-  } catch (const InputError& e) {
-    print_error(err, kApp, e.what());
-    return kExitBadInput;
-  } catch (const std::exception& e) {
-    print_error(err, kApp, std::string("error: ") + e.what());
-    return kExitFailure;
+  } catch (...) {
+    return report_current_exception(err, kApp);
   }
   try {
     common::StagedDir staged = common::StagedDir::create(options.out_dir, options.replace, common::StaleStaging::kDiscard);

@@ -6,6 +6,8 @@
 #include <ostream>
 #include <string>
 
+#include "losmimo/apps/exit_codes.h"
+#include "losmimo/common/input_error.h"
 #include "losmimo/common/message.h"
 #include "losmimo/common/staged_output.h"
 
@@ -22,6 +24,25 @@ inline void print_output_exists(std::ostream& err, const std::string& app, const
               std::string(option) + ": " + e.what() +
                   (e.replaceable() ? "; choose another " + option + " or pass --replace to replace it whole"
                                    : "; choose another " + option));
+}
+
+// Called inside a catch (...): prints the exception being handled and returns the app's exit code.
+// An output in the way (named as `output_option`) and bad input are the user's to fix
+// (kExitBadInput); any other error is "<app>: error: <what>", kExitFailure.
+inline int report_current_exception(std::ostream& err, const std::string& app,
+                                    const std::string& output_option = "--out") {
+  try {
+    throw;
+  } catch (const common::OutputExistsError& e) {
+    print_output_exists(err, app, e, output_option);
+    return kExitBadInput;
+  } catch (const common::InputError& e) {
+    print_error(err, app, e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    print_error(err, app, std::string("error: ") + e.what());
+    return kExitFailure;
+  }
 }
 
 }  // namespace losmimo::apps

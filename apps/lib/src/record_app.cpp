@@ -38,15 +38,8 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
     if (ini.has_section("experiment")) experiment::load_experiment_settings(ini.subset(experiment_sections), extensions);
     if (options.out_path.empty()) throw common::InputError("--out: an output file is required");
     staged.emplace(common::StagedFile::create(options.out_path, options.replace));
-  } catch (const common::OutputExistsError& e) {
-    print_output_exists(err, kApp, e, "--out");
-    return kExitBadInput;
-  } catch (const common::InputError& e) {
-    print_error(err, kApp, e.what());
-    return kExitBadInput;
-  } catch (const std::exception& e) {  // the output cannot be created
-    print_error(err, kApp, e.what());
-    return kExitFailure;
+  } catch (...) {
+    return report_current_exception(err, kApp);
   }
   try {
     RecordOptions ro;

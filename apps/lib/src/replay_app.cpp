@@ -38,15 +38,8 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
     if (options.refine && options.no_refine) throw common::InputError("--refine and --no-refine together");
     if (options.out_given && options.out_dir.empty()) throw common::InputError("--out '': an output folder is required");
     if (!options.out_dir.empty()) common::StagedDir::check(options.out_dir, options.replace, common::StaleStaging::kDiscard);
-  } catch (const common::OutputExistsError& e) {
-    print_output_exists(err, kApp, e, "--out");
-    return kExitBadInput;
-  } catch (const common::InputError& e) {
-    print_error(err, kApp, e.what());
-    return kExitBadInput;
-  } catch (const std::exception& e) {
-    print_error(err, kApp, e.what());
-    return kExitFailure;
+  } catch (...) {
+    return report_current_exception(err, kApp);
   }
   if (options.refine) ro.refine = true;
   if (options.no_refine) ro.refine = false;
