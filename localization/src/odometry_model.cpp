@@ -9,11 +9,18 @@
 
 namespace losmimo::localization {
 
+double wrap_near_rad(double angle_rad) {
+  constexpr double kPi = 3.14159265358979323846;
+  if (angle_rad > kPi) angle_rad -= 2.0 * kPi;
+  if (angle_rad <= -kPi) angle_rad += 2.0 * kPi;
+  return (angle_rad > kPi || angle_rad <= -kPi) ? wrap_angle_rad(angle_rad) : angle_rad;
+}
+
 Eigen::Vector4d compose(const Eigen::Vector4d& pose, const Eigen::Vector4d& delta) {
   const double c = std::cos(pose(kPoseYaw));
   const double s = std::sin(pose(kPoseYaw));
   return {pose(kPoseX) + c * delta(kPoseX) - s * delta(kPoseY), pose(kPoseY) + s * delta(kPoseX) + c * delta(kPoseY),
-          pose(kPoseZ) + delta(kPoseZ), wrap_angle_rad(pose(kPoseYaw) + delta(kPoseYaw))};
+          pose(kPoseZ) + delta(kPoseZ), wrap_near_rad(pose(kPoseYaw) + delta(kPoseYaw))};
 }
 
 Eigen::Matrix4d compose_jacobian_pose(const Eigen::Vector4d& pose, const Eigen::Vector4d& delta) {

@@ -62,6 +62,21 @@ struct WhitenedBeacon {
     }
     return r.squaredNorm();
   }
+
+  void rows(const Eigen::Vector3d& q_m, std::vector<Eigen::Vector3d>& a) const {
+    a.clear();
+    // On the array's z axis (never fused: the geometry check rejects it) there is no row.
+    if (std::hypot(q_m.x(), q_m.y()) < kMinProposalRho_m) return;
+    const Eigen::Matrix3d A = inv_sigma.asDiagonal() * beacon_jacobian(q_m);
+    for (int k = 0; k < 3; ++k) a.push_back(A.row(k).transpose());
+  }
+
+  double project(const Eigen::Vector3d& q_m, const std::vector<Eigen::Vector3d>& a, Eigen::Vector3d& Atr) const {
+    const Eigen::Vector3d r = beacon_innovation(z, beacon_predict(q_m)).cwiseProduct(inv_sigma);
+    Atr.setZero();
+    for (std::size_t k = 0; k < a.size(); ++k) Atr += a[k] * r(static_cast<Eigen::Index>(k));
+    return r.squaredNorm();
+  }
 };
 
 }  // namespace
@@ -129,6 +144,7 @@ class ParticlePositionFilter::Mrpt final
       moments(m_particles, mean_m, cov_m2);
       mean_m += u_m_;
       cov_m2 += sigma_q_m_ * sigma_q_m_ * Eigen::Matrix3d::Identity();
+      predicted_mean_m_ = mean_m;
       verdict_ = screen_beacon(config_, beacon_, mean_m, cov_m2, consecutive_gated_, counters_);
     }
     if (verdict_ == BeaconVerdict::kFuse) {
@@ -136,11 +152,12 @@ class ParticlePositionFilter::Mrpt final
       const WhitenedBeacon measurement{to_vector(*beacon_),
                                        floored_beacon_cov(config_).diagonal().cwiseSqrt().cwiseInverse()};
       const Eigen::Matrix3d W = Eigen::Matrix3d::Identity() / (sigma_q_m_ * sigma_q_m_);
+      const OptimalProposal<3, WhitenedBeacon> proposal(measurement, predicted_mean_m_, W);
       for (auto& p : m_particles) {
         Eigen::Vector3d eps;
         for (int a = 0; a < 3; ++a) eps(a) = rng_.drawGaussian1D_normalized();
         Eigen::Vector3d q_m;
-        p.log_w += sample_optimal_proposal<3>(Eigen::Vector3d(p.d + u_m_), W, measurement, eps, q_m);
+        p.log_w += proposal.sample(Eigen::Vector3d(p.d + u_m_), W, eps, q_m);
         p.d = q_m;
       }
       return;
@@ -232,6 +249,7 @@ class ParticlePositionFilter::Mrpt final
   double sigma_q_m_ = 0.0;
   std::optional<BeaconMeasurement> beacon_;
   BeaconVerdict verdict_ = BeaconVerdict::kNone;
+  Eigen::Vector3d predicted_mean_m_ = Eigen::Vector3d::Zero();
   Belief reset_belief_;
 };
 

@@ -53,6 +53,7 @@ class EkfPoseFilter::Mrpt final
     // 2. Screen against the prediction, then the iterated update, kRangesPerUpdate at a time.
     const RangeUpdatePlan plan =
         plan_range_update(config_, beacons_, scans, mean(), cov(), consecutive_gated_, counters_);
+    innovations_ = plan.innovations;
     for (std::size_t first = 0; first < plan.fuse.size(); first += kRangesPerUpdate) {
       const std::size_t last = std::min(plan.fuse.size(), first + kRangesPerUpdate);
       batch_.assign(plan.fuse.begin() + static_cast<std::ptrdiff_t>(first),
@@ -74,6 +75,7 @@ class EkfPoseFilter::Mrpt final
   }
 
   const FilterCounters& counters() const { return counters_; }
+  const RangeInnovations& innovations() const { return innovations_; }
 
  protected:
   void OnGetAction(KFArray_ACT& out_u) const override {
@@ -140,16 +142,17 @@ class EkfPoseFilter::Mrpt final
 
   void OnPostIteration() override {
     if (!batch_.empty()) {
-      // Joseph form from the covariance before the update, with the H and R of this iteration.
-      const std::size_t n = batch_.size();
-      Eigen::MatrixXd H(n, kStateSize);
-      Eigen::VectorXd R(n);
-      for (std::size_t j = 0; j < n; ++j) {
+      // Joseph form from the covariance before the update, with the H and R of this iteration
+      // (fixed size; unused rows: H = 0, R = 1, which change nothing).
+      Eigen::Matrix<double, kObsSize, kStateSize> H = Eigen::Matrix<double, kObsSize, kStateSize>::Zero();
+      Eigen::Matrix<double, kObsSize, 1> R = Eigen::Matrix<double, kObsSize, 1>::Ones();
+      for (std::size_t j = 0; j < batch_.size(); ++j) {
         H.row(static_cast<Eigen::Index>(j)) = range_jacobian(lin_, batch_[j].sensor_on_robot_m, batch_[j].beacon_m);
         R(static_cast<Eigen::Index>(j)) = batch_[j].sigma_m * batch_[j].sigma_m;
       }
-      const Eigen::MatrixXd S = H * P0_ * H.transpose() + Eigen::MatrixXd(R.asDiagonal());
-      const Eigen::MatrixXd K = S.llt().solve(H * P0_).transpose();  // P H^T S^-1
+      const Eigen::Matrix<double, kObsSize, kObsSize> S =
+          H * P0_ * H.transpose() + Eigen::Matrix<double, kObsSize, kObsSize>(R.asDiagonal());
+      const Eigen::Matrix<double, kStateSize, kObsSize> K = S.llt().solve(H * P0_).transpose();  // P H^T S^-1
       const Eigen::Matrix4d A = Eigen::Matrix4d::Identity() - K * H;
       m_pkk.asEigen() = A * P0_ * A.transpose() + K * R.asDiagonal() * K.transpose();
     }
@@ -205,6 +208,7 @@ class EkfPoseFilter::Mrpt final
   PoseFilterConfig config_;
   BeaconMap beacons_;
   FilterCounters counters_;
+  RangeInnovations innovations_;
   int epochs_since_beacon_ = 0;
   int consecutive_gated_ = 0;
   // Inputs of the current iteration, read by the MRPT callbacks.
@@ -230,5 +234,7 @@ void EkfPoseFilter::step(const OdometryIncrement& odometry, const std::vector<Be
 PoseBelief EkfPoseFilter::belief() const { return kf_->belief(); }
 
 const FilterCounters& EkfPoseFilter::counters() const { return kf_->counters(); }
+
+const RangeInnovations& EkfPoseFilter::last_innovations() const { return kf_->innovations(); }
 
 }  // namespace losmimo::localization

@@ -25,7 +25,7 @@ using PoseParticles = mrpt::bayes::CParticleFilterData<Eigen::Vector4d, particle
 // x - about, with the heading difference wrapped to (-pi, pi].
 Eigen::Vector4d deviation(const Eigen::Vector4d& x, const Eigen::Vector4d& about) {
   Eigen::Vector4d d = x - about;
-  d(kPoseYaw) = wrap_angle_rad(d(kPoseYaw));
+  d(kPoseYaw) = wrap_near_rad(d(kPoseYaw));
   return d;
 }
 
@@ -53,6 +53,33 @@ void pose_moments(const std::vector<Eigen::Vector4d>& poses, const std::vector<d
   cov = second - first * first.transpose();
 }
 
+// G M G^T for G = J_x'_u at heading (c, s) = (cos, sin): the x-y block rotated, R M_xy R^T, the
+// x-y rows of the cross blocks rotated, R M_x,rest, and the rest unchanged.
+Eigen::Matrix4d rotate_xy(const Eigen::Matrix4d& M, double c, double s) {
+  Eigen::Matrix2d R;
+  R << c, -s, s, c;
+  Eigen::Matrix4d out = M;
+  out.topLeftCorner<2, 2>() = R * M.topLeftCorner<2, 2>() * R.transpose();
+  out.topRightCorner<2, 2>() = R * M.topRightCorner<2, 2>();
+  out.bottomLeftCorner<2, 2>() = out.topRightCorner<2, 2>().transpose();
+  return out;
+}
+
+// E[G M G^T] over headings with weighted moments trig = (E c, E s, E c^2, E s^2, E cs): with
+// R = c I + s J (J the quarter turn), R A R^T = c^2 A + cs (J A + A J^T) + s^2 J A J^T and
+// R B = c B + s J B, both linear in the moments.
+Eigen::Matrix4d rotated_mean(const Eigen::Matrix4d& M, const Eigen::Matrix<double, 5, 1>& trig) {
+  Eigen::Matrix2d J;
+  J << 0.0, -1.0, 1.0, 0.0;
+  const Eigen::Matrix2d A = M.topLeftCorner<2, 2>();
+  const Eigen::Matrix2d B = M.topRightCorner<2, 2>();
+  Eigen::Matrix4d out = M;
+  out.topLeftCorner<2, 2>() = trig(2) * A + trig(4) * (J * A + A * J.transpose()) + trig(3) * (J * A * J.transpose());
+  out.topRightCorner<2, 2>() = trig(0) * B + trig(1) * (J * B);
+  out.bottomLeftCorner<2, 2>() = out.topRightCorner<2, 2>().transpose();
+  return out;
+}
+
 // The fused readings as whitened residuals (optimal_proposal.h's measurement concept).
 struct WhitenedRanges {
   const std::vector<UsableRange>* readings;
@@ -75,6 +102,30 @@ struct WhitenedRanges {
           u.sigma_m;
       AtA->noalias() += a * a.transpose();
       *Atr += a * r;
+    }
+    return r2;
+  }
+
+  void rows(const Eigen::Vector4d& x, std::vector<Eigen::Vector4d>& a) const {
+    a.clear();
+    for (const UsableRange& u : *readings) {
+      a.push_back(range_jacobian(x, u.sensor_on_robot_m, u.beacon_m).transpose() / u.sigma_m);
+    }
+  }
+
+  double project(const Eigen::Vector4d& x, const std::vector<Eigen::Vector4d>& a, Eigen::Vector4d& Atr) const {
+    const double c = std::cos(x(kPoseYaw));
+    const double s = std::sin(x(kPoseYaw));
+    Atr.setZero();
+    double r2 = 0.0;
+    for (std::size_t j = 0; j < readings->size(); ++j) {
+      const UsableRange& u = (*readings)[j];
+      const Eigen::Vector3d& o = u.sensor_on_robot_m;
+      const Eigen::Vector3d d(x(kPoseX) + c * o.x() - s * o.y() - u.beacon_m.x(),
+                              x(kPoseY) + s * o.x() + c * o.y() - u.beacon_m.y(), x(kPoseZ) + o.z() - u.beacon_m.z());
+      const double r = (u.range_m - d.norm()) / u.sigma_m;
+      r2 += r * r;
+      if (!a.empty()) Atr += a[j] * r;
     }
     return r2;
   }
@@ -116,6 +167,7 @@ class ParticlePoseFilter::Mrpt final : public PoseParticles,
 
   const PoseBelief& belief() const { return belief_; }
   const FilterCounters& counters() const { return counters_; }
+  const RangeInnovations& innovations() const { return innovations_; }
   int num_particles() const { return static_cast<int>(m_particles.size()); }
   double last_normalized_ess() const { return last_ess_; }
 
@@ -127,26 +179,30 @@ class ParticlePoseFilter::Mrpt final : public PoseParticles,
     // Predicted means xbar_i and the predicted moments (header).
     std::vector<Eigen::Vector4d> x_bar(n);
     std::vector<double> log_w(n);
+    std::vector<Eigen::Vector2d> cos_sin(n);  // of each particle's heading before the step
     std::size_t i = 0;
     for (const auto& p : m_particles) {
       x_bar[i] = compose(p.d, u_.delta);
       log_w[i] = p.log_w;
+      cos_sin[i] = Eigen::Vector2d(std::cos(p.d(kPoseYaw)), std::sin(p.d(kPoseYaw)));
       ++i;
     }
     const std::vector<double> w = normalized_weights(log_w);
     Eigen::Vector4d mean;
     Eigen::Matrix4d cov;
     pose_moments(x_bar, w, mean, cov);
-    Eigen::Matrix4d mean_Q = Eigen::Matrix4d::Zero();
-    i = 0;
-    for (const auto& p : m_particles) {
-      const Eigen::Matrix4d G = compose_jacobian_increment(p.d);
-      mean_Q.noalias() += w[i++] * (G * u_.cov * G.transpose());
+    // E_w[G_i Sigma_u G_i^T] from the weighted moments of cos and sin (rotated_mean()).
+    Eigen::Matrix<double, 5, 1> trig = Eigen::Matrix<double, 5, 1>::Zero();  // E c, E s, E c^2, E s^2, E cs
+    for (std::size_t k = 0; k < n; ++k) {
+      const double c = cos_sin[k](0);
+      const double sn = cos_sin[k](1);
+      trig += w[k] * Eigen::Matrix<double, 5, 1>(c, sn, c * c, sn * sn, c * sn);
     }
-    cov += mean_Q;
+    cov += rotated_mean(u_.cov, trig);
     const RangeUpdatePlan plan = plan_range_update(config_, beacons_, scans_ ? *scans_ : std::vector<BeaconRangeScan>{},
                                                    mean, cov, consecutive_gated_, counters_);
     verdict_ = plan.verdict;
+    innovations_ = plan.innovations;
 
     if (plan.verdict != RangeEpochVerdict::kFuse) {
       // Motion model: sample the increment, compose in the robot frame.
@@ -155,16 +211,17 @@ class ParticlePoseFilter::Mrpt final : public PoseParticles,
       if (plan.verdict == RangeEpochVerdict::kReset) redraw_positions(*plan.reset_fix, plan.reset_sensor_on_robot_m);
       return;
     }
-    // Optimal proposal per particle.
+    // Optimal proposal per particle, linearised once at the predicted mean (optimal_proposal.h).
     const Eigen::Matrix4d W_u = u_.cov.llt().solve(Eigen::Matrix4d::Identity());
     const WhitenedRanges measurement{&plan.fuse};
+    const Eigen::Matrix4d G_hat = compose_jacobian_increment(Eigen::Vector4d(0.0, 0.0, 0.0, mean(kPoseYaw) - u_.delta(kPoseYaw)));
+    const OptimalProposal<4, WhitenedRanges> proposal(measurement, mean, G_hat * W_u * G_hat.transpose());
     i = 0;
     for (auto& p : m_particles) {
-      const Eigen::Matrix4d G = compose_jacobian_increment(p.d);
-      const Eigen::Matrix4d W = G * W_u * G.transpose();
+      const Eigen::Matrix4d W = rotate_xy(W_u, cos_sin[i](0), cos_sin[i](1));  // G_i W_u G_i^T
       Eigen::Vector4d x;
-      p.log_w += sample_optimal_proposal<4>(x_bar[i], W, measurement, normal4(), x);
-      x(kPoseYaw) = wrap_angle_rad(x(kPoseYaw));
+      p.log_w += proposal.sample(x_bar[i], W, normal4(), x);
+      x(kPoseYaw) = wrap_near_rad(x(kPoseYaw));
       p.d = x;
       ++i;
     }
@@ -219,7 +276,7 @@ class ParticlePoseFilter::Mrpt final : public PoseParticles,
     const double a = std::sqrt(1.0 - h * h);
     for (auto& p : m_particles) {
       Eigen::Vector4d x = mean + a * deviation(p.d, mean) + h * (L * normal4());
-      x(kPoseYaw) = wrap_angle_rad(x(kPoseYaw));
+      x(kPoseYaw) = wrap_near_rad(x(kPoseYaw));
       p.d = x;
     }
   }
@@ -240,6 +297,7 @@ class ParticlePoseFilter::Mrpt final : public PoseParticles,
   mrpt::bayes::CParticleFilter pf_;
   mrpt::random::CRandomGenerator rng_;
   FilterCounters counters_;
+  RangeInnovations innovations_;
   int epochs_since_beacon_ = 0;
   int consecutive_gated_ = 0;
   double last_ess_ = 1.0;
@@ -265,6 +323,7 @@ void ParticlePoseFilter::step(const OdometryIncrement& odometry, const std::vect
 
 PoseBelief ParticlePoseFilter::belief() const { return pf_->belief(); }
 const FilterCounters& ParticlePoseFilter::counters() const { return pf_->counters(); }
+const RangeInnovations& ParticlePoseFilter::last_innovations() const { return pf_->innovations(); }
 int ParticlePoseFilter::num_particles() const { return pf_->num_particles(); }
 double ParticlePoseFilter::last_normalized_ess() const { return pf_->last_normalized_ess(); }
 

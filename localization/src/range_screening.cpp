@@ -29,16 +29,17 @@ RangeUpdatePlan plan_range_update(const PoseFilterConfig& config, const BeaconMa
         ++counters.rejected_range_geometry;
         continue;
       }
-      if (config.filter.gate_enabled) {
-        const Eigen::RowVector4d H = range_jacobian(predicted_mean, u.sensor_on_robot_m, u.beacon_m);
-        const double S = H.dot(predicted_cov * H.transpose()) + u.sigma_m * u.sigma_m;
-        const double y = u.range_m - range_predict(predicted_mean, u.sensor_on_robot_m, u.beacon_m);
-        if (!(y * y <= config.range_gate_chi2 * S)) {
-          gated.push_back(u);
-          continue;
-        }
+      const Eigen::RowVector4d H = range_jacobian(predicted_mean, u.sensor_on_robot_m, u.beacon_m);
+      const double S = H.dot(predicted_cov * H.transpose()) + u.sigma_m * u.sigma_m;
+      const double y = u.range_m - range_predict(predicted_mean, u.sensor_on_robot_m, u.beacon_m);
+      if (config.filter.gate_enabled && !(y * y <= config.range_gate_chi2 * S)) {
+        gated.push_back(u);
+        continue;
       }
       plan.fuse.push_back(u);
+      ++plan.innovations.fused;
+      plan.innovations.sum_sq_m2 += y * y;
+      plan.innovations.nis_sum += y * y / S;
     }
   }
   const auto count_gated = [&] {

@@ -56,6 +56,7 @@ void run_update(benchmark::State& state, FilterKind kind) {
     benchmark::DoNotOptimize(filter->belief());
     k = (k + 1) % kReplayEpochs;
   }
+  if (kind == FilterKind::kParticle) state.SetItemsProcessed(state.iterations() * kBenchParticles);
 }
 
 void BM_EkfUpdate(benchmark::State& state) { run_update(state, FilterKind::kEkf); }

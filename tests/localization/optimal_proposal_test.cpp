@@ -9,6 +9,7 @@
 #include <Eigen/LU>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "losmimo/localization/optimal_proposal.h"
 
@@ -33,7 +34,29 @@ struct LinearMeasurement {
     }
     return r.squaredNorm();
   }
+
+  void rows(const Vec3& /*x*/, std::vector<Vec3>& a) const {
+    a.clear();
+    for (int k = 0; k < 2; ++k) a.push_back(H.row(k).transpose() / sigma(k));
+  }
+
+  double project(const Vec3& x, const std::vector<Vec3>& a, Vec3& Atr) const {
+    const Eigen::Vector2d r = (z - H * x).cwiseQuotient(sigma);
+    Atr.setZero();
+    for (std::size_t k = 0; k < a.size(); ++k) Atr += a[k] * r(static_cast<Eigen::Index>(k));
+    return r.squaredNorm();
+  }
 };
+
+// Both entry points: the per-particle Gauss-Newton and the epoch-shared linearisation (with a
+// linear h they are the same proposal).
+enum class Entry { kPerParticle, kShared };
+
+double draw(Entry entry, const LinearMeasurement& h, const Vec3& x_bar, const Mat3& W, const Vec3& eps, Vec3& x) {
+  if (entry == Entry::kPerParticle) return sample_optimal_proposal<3>(x_bar, W, h, eps, x);
+  const OptimalProposal<3, LinearMeasurement> proposal(h, Vec3(0.1, 0.1, 0.1), W);  // any xhat: h is linear
+  return proposal.sample(x_bar, W, eps, x);
+}
 
 LinearMeasurement measurement() {
   LinearMeasurement m;
@@ -45,7 +68,9 @@ LinearMeasurement measurement() {
 
 const Mat3 kQ = (Mat3() << 0.09, 0.01, 0.0, 0.01, 0.04, 0.005, 0.0, 0.005, 0.16).finished();
 
-TEST(OptimalProposal, LinearGaussian_SamplesFollowTheKalmanPosterior) {
+class OptimalProposalTest : public ::testing::TestWithParam<Entry> {};
+
+TEST_P(OptimalProposalTest, LinearGaussian_SamplesFollowTheKalmanPosterior) {
   constexpr int kDraws = 100000;
   const LinearMeasurement h = measurement();
   const Vec3 x_bar(0.7, 0.2, -0.1);
@@ -64,7 +89,7 @@ TEST(OptimalProposal, LinearGaussian_SamplesFollowTheKalmanPosterior) {
   for (int k = 0; k < kDraws; ++k) {
     const Vec3 eps(n(rng), n(rng), n(rng));
     Vec3 x;
-    sample_optimal_proposal<3>(x_bar, W, h, eps, x);
+    draw(GetParam(), h, x_bar, W, eps, x);
     sum += x;
     sum_sq += x * x.transpose();
   }
@@ -76,7 +101,7 @@ TEST(OptimalProposal, LinearGaussian_SamplesFollowTheKalmanPosterior) {
   }
 }
 
-TEST(OptimalProposal, LinearGaussian_WeightsDifferAsThePredictiveLikelihoods) {
+TEST_P(OptimalProposalTest, LinearGaussian_WeightsDifferAsThePredictiveLikelihoods) {
   const LinearMeasurement h = measurement();
   const Mat3 W = kQ.inverse();
   const Eigen::Matrix2d S = h.H * kQ * h.H.transpose() + Eigen::Matrix2d(h.sigma.cwiseAbs2().asDiagonal());
@@ -87,12 +112,15 @@ TEST(OptimalProposal, LinearGaussian_WeightsDifferAsThePredictiveLikelihoods) {
   // Any eps: with a linear h the weight does not depend on where the particle lands.
   const Vec3 a(0.7, 0.2, -0.1), b(-0.3, 0.9, 0.4);
   Vec3 x;
-  const double wa1 = sample_optimal_proposal<3>(a, W, h, Vec3(0.3, -1.2, 0.5), x);
-  const double wa2 = sample_optimal_proposal<3>(a, W, h, Vec3(-2.0, 0.1, 1.5), x);
-  const double wb = sample_optimal_proposal<3>(b, W, h, Vec3(0.8, 0.8, -0.4), x);
+  const double wa1 = draw(GetParam(), h, a, W, Vec3(0.3, -1.2, 0.5), x);
+  const double wa2 = draw(GetParam(), h, a, W, Vec3(-2.0, 0.1, 1.5), x);
+  const double wb = draw(GetParam(), h, b, W, Vec3(0.8, 0.8, -0.4), x);
   EXPECT_NEAR(wa1, wa2, 1e-9);
   EXPECT_NEAR(wa1 - wb, log_predictive(a) - log_predictive(b), 1e-9);
 }
+
+INSTANTIATE_TEST_SUITE_P(BothEntries, OptimalProposalTest, ::testing::Values(Entry::kPerParticle, Entry::kShared),
+                         [](const auto& info) { return info.param == Entry::kShared ? "shared" : "per_particle"; });
 
 }  // namespace
 }  // namespace losmimo::localization

@@ -52,9 +52,12 @@ TEST_P(RangeConsistency, NominalNoise_NeesInBandAndBetterThanDeadReckoning) {
   const double fraction = fraction_in_pose_nees_band(trials, kSettleEpochs);
   const double rmse = range_rmse_m(trials, false, kSettleEpochs);
   const double dr = range_rmse_m(trials, true, kSettleEpochs);
+  const double nis = test_support::mean_reading_nis(trials);
   std::cout << to_string(GetParam()) << " nominal (sigma 0.05 m): NEES mean " << mean_nees(trials)
-            << ", fraction in band " << fraction << ", RMSE " << rmse << " m, dead reckoning " << dr << " m\n";
+            << ", fraction in band " << fraction << ", reading NIS " << nis << ", RMSE " << rmse
+            << " m, dead reckoning " << dr << " m\n";
   EXPECT_GE(fraction, kMinFractionInBand);
+  EXPECT_NEAR(nis, 1.0, 0.1);  // 10000 readings: ~0.015 of sampling spread
   EXPECT_LT(rmse, dr);
   for (const auto& t : trials) {
     EXPECT_TRUE(t.fixed_at_start);

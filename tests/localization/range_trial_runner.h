@@ -67,6 +67,8 @@ struct RangeTrialResult {
   std::vector<double> dr_sq_error_m2; // dead reckoning alone, position
   localization::FilterCounters counters;
   bool fixed_at_start = false;  // the epoch-0 scan gave a range fix
+  double nis_sum = 0.0;         // of the fused readings (PoseFilter::last_innovations)
+  long nis_count = 0;
 };
 
 inline Eigen::Vector4d pose_error(const Eigen::Vector4d& estimate, const Eigen::Vector4d& truth) {
@@ -108,6 +110,8 @@ inline RangeTrialResult run_range_trial(localization::FilterKind kind, const Ran
     std::vector<BeaconRangeScan> scans;
     if (auto scan = sim.measure_ranges(truth, k)) scans.push_back(*scan);
     filter->step(reading, scans);
+    out.nis_sum += filter->last_innovations().nis_sum;
+    out.nis_count += filter->last_innovations().fused;
     const PoseBelief b = filter->belief();
     const Eigen::Vector4d e = pose_error(b.mean, truth);
     out.nees.push_back(e.dot(b.cov.llt().solve(e)));
@@ -141,6 +145,17 @@ inline double fraction_in_pose_nees_band(const std::vector<RangeTrialResult>& tr
     if (mean >= lo && mean <= hi) ++inside;
   }
   return static_cast<double>(inside) / static_cast<double>(epochs - static_cast<std::size_t>(first_epoch));
+}
+
+// Average NIS per fused reading over all trials (1 for a consistent filter).
+inline double mean_reading_nis(const std::vector<RangeTrialResult>& trials) {
+  double sum = 0.0;
+  long n = 0;
+  for (const auto& t : trials) {
+    sum += t.nis_sum;
+    n += t.nis_count;
+  }
+  return sum / static_cast<double>(n);
 }
 
 inline double mean_nees(const std::vector<RangeTrialResult>& trials) {

@@ -50,6 +50,12 @@ struct OdometryIncrement {
   Eigen::Matrix4d cov = Eigen::Matrix4d::Zero();    // of delta: m^2, m rad, rad^2
 };
 
+// wrap_angle_rad() (beacon_model.h) with a fast path for angles within one turn of (-pi, pi]
+// (sums and differences of wrapped angles): one comparison instead of std::remainder, which the
+// particle filters would otherwise pay for every particle. Same range; may differ from
+// wrap_angle_rad in the last bit.
+double wrap_near_rad(double angle_rad);
+
 // x (+) u, yaw wrapped to (-pi, pi].
 Eigen::Vector4d compose(const Eigen::Vector4d& pose, const Eigen::Vector4d& delta);
 // J_x'_x and J_x'_u above.

@@ -81,6 +81,15 @@ struct PoseBelief {
 // ("mean(3) = nan", "cov(0, 3) = inf", ...), or nullopt.
 std::optional<std::string> health_problem(const PoseBelief& belief);
 
+// The innovations of an epoch's fused readings against the predicted belief, for residual and
+// consistency reports: y_j = r_j - h_j(predicted mean), S_j = H_j P H_j^T + sigma_j^2.
+// Averaged over epochs, nis_sum / fused is ~1 for a consistent filter (each reading alone).
+struct RangeInnovations {
+  int fused = 0;
+  double sum_sq_m2 = 0.0;  // sum of y_j^2
+  double nis_sum = 0.0;    // sum of y_j^2 / S_j
+};
+
 // The 1-sigma a filter assumes for the readings of `scan` (see above).
 double range_sigma_m(const PoseFilterConfig& config, const BeaconRangeScan& scan);
 
@@ -93,6 +102,8 @@ class PoseFilter {
   virtual PoseBelief belief() const = 0;
   virtual const FilterCounters& counters() const = 0;
   virtual FilterKind kind() const = 0;
+  // The last step()'s innovations (zero when it fused no reading, or reset).
+  virtual const RangeInnovations& last_innovations() const = 0;
 };
 
 // health_problem(filter.belief()) or the non-finite-state count, as for PositionFilter.

@@ -19,6 +19,15 @@
 // Resampling and the Liu-West jitter as in particle_filter.h (in 4-D, headings jittered about
 // their circular mean). Every random number comes from the filter's own CRandomGenerator
 // seeded by fold_seed(seed).
+// Limits (measured on tests/localization/range_trial_runner.h's trial, 1000 particles):
+//  - a dimension with no process noise whose spread is wider than one scan resolves (an unknown
+//    but constant height: 2-D odometry has dz = 0) is a static parameter; resampling thins its
+//    values (genetic drift) and the filter grows overconfident in it (z NEES 1.5-1.8 instead of
+//    1; the EKF stays at 0.85-1.1). Give such a height as known (a tight prior: MRPT's 2-D apps
+//    take it as exact) or give the odometry a vertical sigma (1 cm per step: z NEES 1.2);
+//  - from a prior far wider than the ranges resolve (a metres-wide box, centimetre ranges) the
+//    first update keeps few particles (MRPT's pf-localization starts such runs with 40000
+//    particles and shrinks with KLD); start from initial_pose()'s range fix instead.
 
 #include <cstdint>
 #include <memory>
@@ -39,6 +48,7 @@ class ParticlePoseFilter final : public PoseFilter {
   PoseBelief belief() const override;
   const FilterCounters& counters() const override;
   FilterKind kind() const override { return FilterKind::kParticle; }
+  const RangeInnovations& last_innovations() const override;
 
   int num_particles() const;
   // ESS / N after the last update, before any resampling (1 before the first step).
