@@ -1,4 +1,4 @@
-// losmimo-record: one closed-loop mission logged as an MRPT rawlog (rawlog_recorder.h).
+// losmimo-record: one closed-loop mission logged as an MRPT rawlog (rawlog/recorder.h).
 // Exit codes: 0 ok, 1 runtime failure, 2 bad input, 3 the run was ended by a fault (an
 // unresponsive UAV or a numerical fault; the reason is printed, the rawlog is kept).
 #include <CLI/CLI.hpp>
@@ -11,7 +11,8 @@ int main(int argc, char** argv) {
   CLI::App app{"Record one closed-loop losmimo mission as an MRPT rawlog"};
   app.add_option("--config", options.config_path, "mission INI (default: built-in defaults)");
   app.add_option("--set", options.overrides, "override a key: section.key=value (repeatable)");
-  app.add_option("--out", options.out_path, "output rawlog (gzip)")->required();
+  app.add_option("--out", options.out_path, "output rawlog (gzip), written as <out>.partial until complete")->required();
+  app.add_flag("--replace", options.replace, "replace an existing --out file (default: refuse, exit 2)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -3,10 +3,16 @@
 #include <cctype>
 #include <fstream>
 #include <sstream>
+#include <string_view>
+
+#include "losmimo/common/bounded_read.h"
 
 namespace losmimo::common {
 
 namespace {
+// The field an error about a key names: "[section] key".
+std::string field_name(const std::string& section, const std::string& key) { return "[" + section + "] " + key; }
+
 std::string trim(const std::string& s) {
   std::size_t b = 0;
   std::size_t e = s.size();
@@ -42,19 +48,15 @@ std::vector<std::string> split_list(const std::string& text) {
 }
 
 IniConfig IniConfig::from_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open config file");
-  std::ostringstream text;
-  // peek() first: an empty file is a valid (empty) config, while `text << rdbuf()` would fail on
-  // it; and a directory opens fine but fails here (it used to load as an empty config).
-  if (in.peek() != std::ifstream::traits_type::eof()) text << in.rdbuf();
-  if (in.bad() || text.fail()) throw InputError(path + ": cannot read config file");
-  return from_string(text.str(), path);
+  // Bounded: a config is a few KB; /dev/zero or a huge file is refused, not slurped.
+  return from_string(read_file_bounded(path, kMaxConfigBytes, "config file"), path);
 }
 
 IniConfig IniConfig::from_string(const std::string& text, const std::string& origin) {
   IniConfig cfg;
-  std::istringstream in(text);
+  // A UTF-8 byte-order mark (written by some editors) is not part of the first line.
+  constexpr std::string_view kBom = "\xEF\xBB\xBF";
+  std::istringstream in(text.compare(0, kBom.size(), kBom) == 0 ? text.substr(kBom.size()) : text);
   std::string raw;
   std::string section;
   int line_no = 0;
@@ -100,13 +102,24 @@ void IniConfig::set_override(const std::string& assignment) {
   set(section, key, trim(assignment.substr(eq + 1)));
 }
 
-void IniConfig::set(const std::string& section, const std::string& key, const std::string& value) {
-  sections_[section][key] = Entry{value, "--set", 0};
+void IniConfig::set(const std::string& section, const std::string& key, const std::string& value,
+                    const std::string& origin) {
+  sections_[section][key] = Entry{value, origin, 0};
 }
 
 bool IniConfig::has(const std::string& section, const std::string& key) const {
   const auto s = sections_.find(section);
   return s != sections_.end() && s->second.count(key) > 0;
+}
+
+bool IniConfig::has_section(const std::string& section) const { return sections_.count(section) > 0; }
+
+IniConfig IniConfig::subset(const std::set<std::string>& sections) const {
+  IniConfig out;
+  for (const auto& [name, keys] : sections_) {
+    if (sections.count(name)) out.sections_[name] = keys;
+  }
+  return out;
 }
 
 std::string IniConfig::where(const std::string& section, const std::string& key) const {
@@ -123,19 +136,19 @@ std::string IniConfig::where(const std::string& section, const std::string& key)
 }
 
 double IniConfig::get_double(const std::string& section, const std::string& key, double fallback) const {
-  return has(section, key) ? parse_double(sections_.at(section).at(key).value, where(section, key))
+  return has(section, key) ? parse_double(sections_.at(section).at(key).value, where(section, key), field_name(section, key))
                            : fallback;
 }
 
 long long IniConfig::get_integer(const std::string& section, const std::string& key,
                                  long long fallback, long long lo, long long hi) const {
   return has(section, key)
-             ? parse_integer(sections_.at(section).at(key).value, where(section, key), lo, hi)
+             ? parse_integer(sections_.at(section).at(key).value, where(section, key), lo, hi, field_name(section, key))
              : fallback;
 }
 
 bool IniConfig::get_bool(const std::string& section, const std::string& key, bool fallback) const {
-  return has(section, key) ? parse_bool(sections_.at(section).at(key).value, where(section, key))
+  return has(section, key) ? parse_bool(sections_.at(section).at(key).value, where(section, key), field_name(section, key))
                            : fallback;
 }
 
@@ -149,10 +162,10 @@ void IniConfig::require_known(const std::map<std::string, std::set<std::string>>
     const auto k = known.find(section);
     if (k == known.end()) {
       std::string where_first = keys.empty() ? "" : where(section, keys.begin()->first) + ": ";
-      throw InputError(where_first + "unknown section [" + section + "]");
+      throw InputError(where_first + "unknown section [" + section + "]", "[" + section + "]");
     }
     for (const auto& [key, entry] : keys) {
-      if (!k->second.count(key)) throw InputError(where(section, key) + ": unknown key");
+      if (!k->second.count(key)) throw InputError(where(section, key) + ": unknown key", field_name(section, key));
     }
   }
 }
