@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -249,6 +250,13 @@ TEST(RangeReplayApp, DemoWithBeacons_WritesTrackAndSummary) {
   s << summary.rdbuf();
   EXPECT_NE(s.str().find("ranges_fused,\"1415\""), std::string::npos) << s.str();
   EXPECT_NE(out.str().find("skipped_unknown_beacon = 0"), std::string::npos) << out.str();
+  // The plot's script always; the picture where gnuplot is installed (else one warning).
+  EXPECT_TRUE(std::filesystem::exists(dir + "/track.gp"));
+  if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
+    EXPECT_TRUE(std::filesystem::exists(dir + "/track.png")) << err.str();
+  } else {
+    EXPECT_NE(err.str().find("gnuplot not found"), std::string::npos) << err.str();
+  }
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "losmimo/common/input_error.h"
 #include "losmimo/common/staged_output.h"
 #include "losmimo/rawlog/beacon_list.h"
+#include "losmimo/rawlog/mrpt_app_config.h"
 #include "losmimo/rawlog/range_replay.h"
 #include "messages.h"
 
@@ -38,8 +39,18 @@ std::vector<double> numbers(const std::string& text, std::size_t count, const st
   return v;
 }
 
-RangeReplayOptions range_options(const ReplayAppOptions& o) {
+// The options, the config's values under the explicit ones.
+RangeReplayOptions range_options(const ReplayAppOptions& o, const MrptAppConfig* cfg) {
   RangeReplayOptions ro;
+  if (cfg) {
+    ro.prior = cfg->prior;
+    if (cfg->range_sigma_m) ro.config.filter.noise.sigma_range_m = *cfg->range_sigma_m;
+    // The stock apps take beaconRangesStd unless told to use the observation's stdError.
+    ro.config.use_observation_std = cfg->use_observation_std.value_or(!cfg->range_sigma_m.has_value());
+    if (cfg->start_pose) ro.ground_truth_origin = *cfg->start_pose;
+  } else {
+    ro.config.use_observation_std = true;
+  }
   if (o.estimator == "ekf" || o.estimator == "pf" || o.estimator.empty()) {
     ro.estimator = localization::filter_kind_from_string(o.estimator.empty() ? "ekf" : o.estimator);
   } else {
@@ -49,10 +60,13 @@ RangeReplayOptions range_options(const ReplayAppOptions& o) {
   if (o.range_sigma_m < 0.0 || !std::isfinite(o.range_sigma_m)) {
     throw common::InputError("--range-sigma " + common::format_double(o.range_sigma_m) + ": must be >= 0");
   }
-  ro.config.use_observation_std = o.range_sigma_m == 0.0;
-  if (o.range_sigma_m > 0.0) ro.config.filter.noise.sigma_range_m = o.range_sigma_m;
-  if (o.particles < 10) throw common::InputError("--particles " + std::to_string(o.particles) + ": must be >= 10");
-  ro.config.filter.num_particles = o.particles;
+  if (o.range_sigma_m > 0.0) {
+    ro.config.use_observation_std = false;
+    ro.config.filter.noise.sigma_range_m = o.range_sigma_m;
+  }
+  const int particles = o.particles != 0 ? o.particles : (cfg && cfg->particles ? *cfg->particles : 1000);
+  if (particles < 10) throw common::InputError("--particles " + std::to_string(particles) + ": must be >= 10");
+  ro.config.filter.num_particles = particles;
   if (o.settle_steps < 0) throw common::InputError("--settle-steps " + std::to_string(o.settle_steps) + ": must be >= 0");
   ro.settle_steps = o.settle_steps;
   if (!o.initial_pose.empty()) {
@@ -65,6 +79,7 @@ RangeReplayOptions range_options(const ReplayAppOptions& o) {
     g.mean = Eigen::Vector4d(p[0], p[1], 0.0, p[2] * kDegToRad);
     g.cov = Eigen::Vector4d(s[0] * s[0], s[0] * s[0], 1e-6, std::pow(s[1] * kDegToRad, 2)).asDiagonal();
     ro.prior = g;
+    ro.ground_truth_origin = Eigen::Vector3d(p[0], p[1], p[2] * kDegToRad);
   }
   return ro;
 }
@@ -73,11 +88,27 @@ RangeReplayOptions range_options(const ReplayAppOptions& o) {
 int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostream& err) {
   RangeReplayOptions ro;
   localization::BeaconMap beacons;
+  std::optional<MrptAppConfig> cfg;
   try {
-    ro = range_options(options);
+    if (!options.mrpt_config.empty()) cfg = read_mrpt_app_config(options.mrpt_config);
+    ro = range_options(options, cfg ? &*cfg : nullptr);
     if (options.out_given && options.out_dir.empty()) throw common::InputError("--out '': an output folder is required");
     if (!options.out_dir.empty()) common::StagedDir::check(options.out_dir, options.replace, common::StaleStaging::kDiscard);
-    beacons = read_beacon_list(options.beacons_path);
+    if (!options.beacons_path.empty()) {
+      beacons = read_beacon_list(options.beacons_path);
+    } else if (cfg->beacons.empty()) {
+      throw common::InputError(options.mrpt_config +
+                               ": no beacon map ([MetricMap_landmarksMap_00_creationOpts] nBeacons); give --beacons FILE");
+    } else {
+      beacons = cfg->beacons;
+    }
+    const std::string gt = !options.ground_truth.empty() ? options.ground_truth : cfg ? cfg->ground_truth_file : "";
+    if (!gt.empty()) ro.ground_truth = read_relative_ground_truth(gt);
+    if (cfg && !cfg->unused_keys.empty()) {
+      std::string keys;
+      for (const std::string& k : cfg->unused_keys) keys += (keys.empty() ? "" : ", ") + k;
+      out << "not used from " << options.mrpt_config << ": " << keys << "\n";
+    }
   } catch (const common::OutputExistsError& e) {
     print_output_exists(err, kApp, e, "--out");
     return kExitBadInput;
@@ -120,6 +151,9 @@ int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std
       common::StagedDir staged =
           common::StagedDir::create(options.out_dir, options.replace, common::StaleStaging::kDiscard);
       write_range_track_csv(result, (staged.path() / "track.csv").string());
+      for (const std::string& w : write_range_plot(result, beacons, staged.path().string())) {
+        err << kApp << ": " << w << "\n";
+      }
       std::ostringstream summary;
       summary << "key,value\n";
       for (const auto& [k, v] : rows) summary << k << ",\"" << v << "\"\n";

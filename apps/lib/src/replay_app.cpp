@@ -48,7 +48,7 @@ std::string unusable_foreign_log(const MissionLog& log) {
 }  // namespace
 
 int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostream& err) {
-  if (!options.beacons_path.empty()) return run_range_replay_app(options, out, err);
+  if (!options.beacons_path.empty() || !options.mrpt_config.empty()) return run_range_replay_app(options, out, err);
   ReplayOptions ro;
   try {
     if (options.estimator == "ekf" || options.estimator == "pf") {

@@ -1,5 +1,6 @@
 #include "losmimo/rawlog/range_replay.h"
 
+#include <Eigen/Cholesky>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -8,6 +9,7 @@
 
 #include "losmimo/common/format.h"
 #include "losmimo/common/input_error.h"
+#include "losmimo/localization/beacon_model.h"
 
 namespace losmimo::rawlog {
 
@@ -136,6 +138,7 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
   const std::unique_ptr<PoseFilter> filter =
       make_pose_filter(options.estimator, options.config, beacons, start, options.seed);
   Eigen::Vector4d dr = moments(start).mean;
+  std::size_t pair = 0;  // (action, sensory frame) pairs so far: the ground-truth row index
 
   for (std::size_t k = 0; k < log.frames.size(); ++k) {
     const RangeFrame& frame = log.frames[k];
@@ -159,12 +162,25 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
       if (k > 0 && frame.has_odometry) dr = compose(dr, frame.odometry.delta);
     }
     row.dead_reckoning = dr;
+    if (frame.has_odometry && pair < options.ground_truth.size()) {
+      const Eigen::Vector3d& rel = options.ground_truth[pair];
+      const Eigen::Vector3d& o = options.ground_truth_origin;
+      const double c = std::cos(o(2)), sn = std::sin(o(2));
+      row.has_truth = true;
+      row.truth = Eigen::Vector3d(o(0) + c * rel(0) - sn * rel(1), o(1) + sn * rel(0) + c * rel(1),
+                                  wrap_angle_rad(o(2) + rel(2)));
+      const Eigen::Vector2d e = row.belief.mean.head<2>() - row.truth.head<2>();
+      row.error_m = e.norm();
+      row.nees = e.dot(row.belief.cov.topLeftCorner<2, 2>().ldlt().solve(e));
+      row.dr_error_m = (dr.head<2>() - row.truth.head<2>()).norm();
+    }
+    if (frame.has_odometry) ++pair;
     post_fit(frame, beacons, options.config, row.belief.mean, row);
     out.track.push_back(row);
   }
   add_counters(out.counters, filter->counters());
 
-  double innov_sq = 0.0, nis = 0.0, res_sq = 0.0, res_sq_settled = 0.0;
+  double innov_sq = 0.0, nis = 0.0, res_sq = 0.0, res_sq_settled = 0.0, err_sq = 0.0, nees = 0.0, dr_sq = 0.0;
   std::int64_t innov_n = 0;
   for (const RangeTrackRow& r : out.track) {
     innov_sq += r.innovations.sum_sq_m2;
@@ -172,6 +188,12 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
     innov_n += r.innovations.fused;
     res_sq += r.residual_sum_sq_m2;
     out.residuals += r.residuals;
+    if (r.has_truth) {
+      ++out.truth_frames;
+      err_sq += r.error_m * r.error_m;
+      nees += r.nees;
+      dr_sq += r.dr_error_m * r.dr_error_m;
+    }
     if (r.step >= options.settle_steps) {
       res_sq_settled += r.residual_sum_sq_m2;
       out.residuals_settled += r.residuals;
@@ -191,6 +213,10 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
   out.residual_rms_m = out.residuals ? std::sqrt(res_sq / static_cast<double>(out.residuals)) : kNan;
   out.residual_rms_settled_m =
       out.residuals_settled ? std::sqrt(res_sq_settled / static_cast<double>(out.residuals_settled)) : kNan;
+  const double nt = static_cast<double>(out.truth_frames);
+  out.rmse_m = out.truth_frames ? std::sqrt(err_sq / nt) : kNan;
+  out.mean_nees = out.truth_frames ? nees / nt : kNan;
+  out.dr_rmse_m = out.truth_frames ? std::sqrt(dr_sq / nt) : kNan;
   return out;
 }
 
@@ -198,7 +224,7 @@ void write_range_track_csv(const RangeReplayResult& result, const std::string& p
   std::ofstream f(path);
   if (!f) throw std::runtime_error(path + ": cannot write");
   f << "step,timestamp_s,x_m,y_m,z_m,heading_rad,var_x_m2,var_y_m2,var_z_m2,var_heading_rad2,ranges,fused,"
-       "innovation_rms_m,nis,residual_rms_m,dr_x_m,dr_y_m,dr_z_m,dr_heading_rad\n";
+       "innovation_rms_m,nis,residual_rms_m,dr_x_m,dr_y_m,dr_z_m,dr_heading_rad,gt_x_m,gt_y_m,gt_heading_rad,error_m,nees,dr_error_m\n";
   for (const RangeTrackRow& r : result.track) {
     const auto& m = r.belief.mean;
     const auto& P = r.belief.cov;
@@ -210,7 +236,13 @@ void write_range_track_csv(const RangeReplayResult& result, const std::string& p
       << (n ? num(r.innovations.nis_sum / n) : "nan") << ","
       << (r.residuals ? num(std::sqrt(r.residual_sum_sq_m2 / r.residuals)) : "nan") << ","
       << num(r.dead_reckoning(0)) << "," << num(r.dead_reckoning(1)) << "," << num(r.dead_reckoning(2)) << ","
-      << num(r.dead_reckoning(3)) << "\n";
+      << num(r.dead_reckoning(3));
+    if (r.has_truth) {
+      f << "," << num(r.truth(0)) << "," << num(r.truth(1)) << "," << num(r.truth(2)) << "," << num(r.error_m) << ","
+        << num(r.nees) << "," << num(r.dr_error_m) << "\n";
+    } else {
+      f << ",nan,nan,nan,nan,nan,nan\n";
+    }
   }
   if (!f) throw std::runtime_error(path + ": write failed");
 }
@@ -240,6 +272,10 @@ std::vector<std::pair<std::string, std::string>> range_summary_rows(const RangeL
       {"residual_rms_m", num(r.residual_rms_m)},
       {"settle_steps", std::to_string(r.settle_steps)},
       {"residual_rms_settled_m", num(r.residual_rms_settled_m)},
+      {"ground_truth_frames", i(r.truth_frames)},
+      {"rmse_xy_m", num(r.rmse_m)},
+      {"mean_nees_xy", num(r.mean_nees)},
+      {"dead_reckoning_rmse_xy_m", num(r.dr_rmse_m)},
       {"other_classes_skipped", describe_counts(log.skipped)},
       {"trailing_actions", i(log.trailing_actions)},
   };

@@ -31,11 +31,15 @@ struct ReplayAppOptions {
   std::string initial_pose{};
   std::string initial_sigma = "0.1,2";
   double range_sigma_m = 0.0;  // 0: the log's stdError
-  int particles = 1000;
+  int particles = 0;  // 0: [PF_options] sampleSize of --mrpt-config, else 1000
   int settle_steps = 10;
+  // A stock ro-localization / pf-localization APP.ini (rawlog/mrpt_app_config.h): beacon map,
+  // prior, range noise, particles, ground truth. Explicit options win over it.
+  std::string mrpt_config{};
+  std::string ground_truth{};  // ro-localization's groundTruthFile format ("k x y phi" rows)
 };
 int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostream& err);
-// The range-only replay (options.beacons_path set), same exit codes: 2 also for a log with no
+// The range-only replay (options.beacons_path or options.mrpt_config set), same exit codes: 2 also for a log with no
 // usable measurement (no CObservationBeaconRanges, no beacon ID in the map, nothing fused).
 int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostream& err);
 

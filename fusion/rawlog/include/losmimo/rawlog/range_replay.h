@@ -16,6 +16,11 @@
 //   residual RMS    post-fit: r_j - h_j(updated mean) over every reading that passes the
 //                   range screen (range_model.h), all frames, and from frame settle_steps on
 //                   ("after convergence").
+// Ground truth (ro-localization's alignment, mrpt_app_config.h): row k of the relative rows
+// belongs to the k-th frame that has odometry (the k-th (action, sensory frame) pair); the truth
+// is origin (+) row (2-D). Per frame with truth: e = estimate - truth in (x, y), NEES
+// e^T P_xy^-1 e (2 dof), and the same error for dead reckoning. Summary: RMSE over those frames,
+// mean NEES (2 for a consistent filter), dead reckoning's RMSE.
 // Errors (common::InputError, the reason a user can act on): no CObservationBeaconRanges in the
 // log, an empty map, no reading whose beacon ID is in the map, no range fused at all.
 
@@ -39,6 +44,8 @@ struct RangeReplayOptions {
   int settle_steps = 10;
   double no_odometry_sigma_m = 0.1;
   double no_odometry_sigma_yaw_rad = 0.1;
+  std::vector<Eigen::Vector3d> ground_truth;  // relative rows (x_m, y_m, phi_rad); empty: none
+  Eigen::Vector3d ground_truth_origin = Eigen::Vector3d::Zero();
 };
 
 struct RangeTrackRow {
@@ -50,6 +57,9 @@ struct RangeTrackRow {
   localization::RangeInnovations innovations;
   double residual_sum_sq_m2 = 0.0;  // post-fit, screened readings
   int residuals = 0;
+  bool has_truth = false;
+  Eigen::Vector3d truth = Eigen::Vector3d::Zero();  // (x_m, y_m, phi_rad), map frame
+  double error_m = 0.0, nees = 0.0, dr_error_m = 0.0;
 };
 
 struct RangeReplayResult {
@@ -62,10 +72,18 @@ struct RangeReplayResult {
   double residual_rms_m = 0.0, residual_rms_settled_m = 0.0;
   std::int64_t residuals = 0, residuals_settled = 0;
   int settle_steps = 0;
+  std::int64_t truth_frames = 0;
+  double rmse_m = 0.0, mean_nees = 0.0, dr_rmse_m = 0.0;  // nan without truth
 };
 
 RangeReplayResult replay_ranges(const RangeLog& log, const localization::BeaconMap& beacons,
                                 const RangeReplayOptions& options);
+
+// track.png through gnuplot (common/gnuplot.h): the estimate, dead reckoning, the truth, the
+// beacons and 2-sigma ellipses every ~1/20 of the track; writes track.gp, ellipses.dat and
+// beacons.dat into `dir`. Returns the gnuplot warnings.
+std::vector<std::string> write_range_plot(const RangeReplayResult& result, const localization::BeaconMap& beacons,
+                                          const std::string& dir);
 
 // track.csv (one row per frame) and the summary rows (key, value).
 void write_range_track_csv(const RangeReplayResult& result, const std::string& path);
