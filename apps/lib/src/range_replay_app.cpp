@@ -151,6 +151,7 @@ int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std
       common::StagedDir staged =
           common::StagedDir::create(options.out_dir, options.replace, common::StaleStaging::kDiscard);
       write_range_track_csv(result, (staged.path() / "track.csv").string());
+      write_range_readings_csv(log, (staged.path() / "ranges.csv").string());
       for (const std::string& w : write_range_plot(result, beacons, staged.path().string())) {
         err << kApp << ": " << w << "\n";
       }

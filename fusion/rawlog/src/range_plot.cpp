@@ -30,7 +30,7 @@ std::vector<std::string> write_range_plot(const RangeReplayResult& result, const
   }
   {
     std::ofstream f(d / "beacons.dat");
-    for (const auto& [id, p] : beacons.beacons()) f << id << "," << p.x() << "," << p.y() << "\n";
+    for (const auto& [id, p] : beacons.beacons()) f << id << "," << p.x() << "," << p.y() << "," << p.z() << "\n";
     if (!f) throw std::runtime_error((d / "beacons.dat").string() + ": write failed");
   }
   {

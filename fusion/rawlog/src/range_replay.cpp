@@ -220,6 +220,19 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
   return out;
 }
 
+void write_range_readings_csv(const RangeLog& log, const std::string& path) {
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error(path + ": cannot write");
+  f << "step,beacon_id,range_m,sensor_x_m,sensor_y_m,sensor_z_m,std_error_m\n";
+  for (const RangeFrame& fr : log.frames)
+    for (const BeaconRangeScan& s : fr.scans)
+      for (const BeaconRange& r : s.ranges) {
+        f << fr.step << "," << r.beacon_id << "," << num(r.range_m) << "," << num(r.sensor_on_robot_m.x()) << ","
+          << num(r.sensor_on_robot_m.y()) << "," << num(r.sensor_on_robot_m.z()) << "," << num(s.std_error_m) << "\n";
+      }
+  if (!f) throw std::runtime_error(path + ": write failed");
+}
+
 void write_range_track_csv(const RangeReplayResult& result, const std::string& path) {
   std::ofstream f(path);
   if (!f) throw std::runtime_error(path + ": cannot write");

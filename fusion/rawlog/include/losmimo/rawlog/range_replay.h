@@ -81,9 +81,13 @@ RangeReplayResult replay_ranges(const RangeLog& log, const localization::BeaconM
 
 // track.png through gnuplot (common/gnuplot.h): the estimate, dead reckoning, the truth, the
 // beacons and 2-sigma ellipses every ~1/20 of the track; writes track.gp, ellipses.dat and
-// beacons.dat into `dir`. Returns the gnuplot warnings.
+// beacons.dat (id,x,y,z) into `dir`. Returns the gnuplot warnings.
 std::vector<std::string> write_range_plot(const RangeReplayResult& result, const localization::BeaconMap& beacons,
                                           const std::string& dir);
+
+// ranges.csv: every reading of the log, "step,beacon_id,range_m,sensor_x_m,sensor_y_m,sensor_z_m,
+// std_error_m" (to score another estimator's track on the same readings, scripts/compare-stock).
+void write_range_readings_csv(const RangeLog& log, const std::string& path);
 
 // track.csv (one row per frame) and the summary rows (key, value).
 void write_range_track_csv(const RangeReplayResult& result, const std::string& path);
