@@ -10,6 +10,7 @@
 
 #include "losmimo/common/field_error.h"
 #include "losmimo/localization/beacon_model.h"
+#include "losmimo/localization/initial_belief.h"
 #include "losmimo/localization/robustness.h"
 
 namespace losmimo::fusion {
@@ -106,7 +107,6 @@ void ClosedLoopPlanner::start(placement::Swarm& swarm) {
     for (int m = 0; m < nr; ++m) filter_seeds[m] = derive_seed(seed_, Stream::kFilter, m);
     observer_->on_start(filter_seeds);
   }
-  const double prior_sigma_m = scenario_.cube_side_m / std::sqrt(12.0);  // uniform start cube
   for (int m = 0; m < nr; ++m) {
     localization::SimulatorConfig sim = config_.simulator;
     for (const UavBeaconOutage& o : config_.outages) {
@@ -122,40 +122,26 @@ void ClosedLoopPlanner::start(placement::Swarm& swarm) {
     if (!silent) z0 = uav.simulator.measure_beacon(q, 0);
     if (z0 && fault_active(UavFaultKind::kNanBeacon, m, 1))
       z0->range_m = std::numeric_limits<double>::quiet_NaN();
-    // The first fix is taken here, not by the filter, so the filter's plausibility screen
-    // (finite, range within max_beacon_range_m, elevation within +-pi/2) is applied here too.
-    if (z0 && !localization::is_plausible(config_.filter, *z0)) {
-      ++modes_.rejected_beacons[m];
-      z0.reset();
-    }
+    // The epoch-0 rule (localization/initial_belief.h): the beacon fix if the beacon passes the
+    // filter's plausibility screen and the fix is healthy, else the start-cube prior.
     heard_[m] = silent ? 0 : 1;
-    localization::Belief initial;
-    if (z0) {
-      initial = localization::beacon_fix(*z0, config_.filter.noise.sigma_range_m,
-                                         config_.filter.noise.sigma_angle_rad);
-      sums_.beacon_sq_m2 += (initial.mean_m - q).squaredNorm();
-      sums_.beacon_lateral_sq_m2 += (initial.mean_m - q).tail<2>().squaredNorm();
+    const localization::InitialBelief start =
+        localization::initial_belief(z0, config_.filter, localization::start_cube_prior(scenario_, config_.filter));
+    if (start.source == localization::InitialBeliefSource::kPriorImplausibleBeacon) ++modes_.rejected_beacons[m];
+    if (start.beacon_fix) {
+      sums_.beacon_sq_m2 += (start.beacon_fix->mean_m - q).squaredNorm();
+      sums_.beacon_lateral_sq_m2 += (start.beacon_fix->mean_m - q).tail<2>().squaredNorm();
       ++sums_.beacons;
-    } else {
-      initial.mean_m = scenario_.cube_center_m;
-      initial.cov_m2 = prior_sigma_m * prior_sigma_m * Eigen::Matrix3d::Identity();
-      initial.degraded = true;
-      initial.epochs_since_beacon = config_.filter.degraded_after_epochs;
     }
-    if (const std::optional<std::string> problem = localization::health_problem(initial)) {
+    if (start.source == localization::InitialBeliefSource::kPriorHealthProblem && !fault_) {
       // e.g. a fix from an absurd (finite) beacon range: the run ends at iteration 0; the
       // filter, which would refuse such a belief, starts from the prior meanwhile.
-      if (!fault_) {
-        fault_ = placement::PlannerFault{placement::RunStatus::kNumericalFault, m,
-                                         "UAV " + std::to_string(m) + ": initial beacon fix " +
-                                             *problem + " at epoch 0"};
-      }
-      initial.mean_m = scenario_.cube_center_m;
-      initial.cov_m2 = prior_sigma_m * prior_sigma_m * Eigen::Matrix3d::Identity();
-      initial.degraded = true;
-      initial.epochs_since_beacon = config_.filter.degraded_after_epochs;
-      z0.reset();
+      fault_ = placement::PlannerFault{placement::RunStatus::kNumericalFault, m,
+                                       "UAV " + std::to_string(m) + ": initial beacon fix " +
+                                           start.health_problem + " at epoch 0"};
     }
+    if (!start.beacon_used()) z0.reset();
+    const localization::Belief initial = start.belief;
     uav.filter = localization::make_filter(config_.filter_kind, config_.filter, initial,
                                            derive_seed(seed_, Stream::kFilter, m));
     localization::Belief belief = initial;

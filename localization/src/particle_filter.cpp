@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "losmimo/localization/beacon_model.h"
+#include "losmimo/localization/optimal_proposal.h"
 #include "losmimo/localization/resampling.h"
 #include "losmimo/localization/robustness.h"
 
@@ -20,6 +21,7 @@ namespace {
 
 using mrpt::bayes::particle_storage_mode;
 using ParticleData = mrpt::bayes::CParticleFilterData<Eigen::Vector3d, particle_storage_mode::VALUE>;
+constexpr double kMinProposalRho_m = 1e-9;
 
 // Weighted mean and covariance of the particle cloud (normalised linear weights), one pass
 // with iterators (deque indexing is slow), accumulating about the first particle for accuracy.
@@ -42,6 +44,40 @@ void moments(const ParticleData::CParticleList& particles, Eigen::Vector3d& mean
   mean_m = origin_m + first;
   cov_m2 = second - first * first.transpose();
 }
+
+// The beacon as whitened residuals r(q) = (z - h(q)) / sigma, angles wrapped, and A = dh/dq / sigma
+// (optimal_proposal.h's measurement concept).
+struct WhitenedBeacon {
+  Eigen::Vector3d z;
+  Eigen::Vector3d inv_sigma;
+
+  double accumulate(const Eigen::Vector3d& q_m, Eigen::Matrix3d* AtA, Eigen::Vector3d* Atr) const {
+    const Eigen::Vector3d r = beacon_innovation(z, beacon_predict(q_m)).cwiseProduct(inv_sigma);
+    // The azimuth row has rho^2 in its denominator: no Jacobian on the array's z axis (the
+    // gate's geometry check keeps the predicted mean >= kMinBeaconRho_m away from it).
+    if (AtA != nullptr && std::hypot(q_m.x(), q_m.y()) >= kMinProposalRho_m) {
+      const Eigen::Matrix3d A = inv_sigma.asDiagonal() * beacon_jacobian(q_m);
+      AtA->noalias() += A.transpose() * A;
+      Atr->noalias() += A.transpose() * r;
+    }
+    return r.squaredNorm();
+  }
+
+  void rows(const Eigen::Vector3d& q_m, std::vector<Eigen::Vector3d>& a) const {
+    a.clear();
+    // On the array's z axis (never fused: the geometry check rejects it) there is no row.
+    if (std::hypot(q_m.x(), q_m.y()) < kMinProposalRho_m) return;
+    const Eigen::Matrix3d A = inv_sigma.asDiagonal() * beacon_jacobian(q_m);
+    for (int k = 0; k < 3; ++k) a.push_back(A.row(k).transpose());
+  }
+
+  double project(const Eigen::Vector3d& q_m, const std::vector<Eigen::Vector3d>& a, Eigen::Vector3d& Atr) const {
+    const Eigen::Vector3d r = beacon_innovation(z, beacon_predict(q_m)).cwiseProduct(inv_sigma);
+    Atr.setZero();
+    for (std::size_t k = 0; k < a.size(); ++k) Atr += a[k] * r(static_cast<Eigen::Index>(k));
+    return r.squaredNorm();
+  }
+};
 
 }  // namespace
 
@@ -101,28 +137,39 @@ class ParticlePositionFilter::Mrpt final
   void prediction_and_update_pfStandardProposal(
       const mrpt::obs::CActionCollection* /*action*/, const mrpt::obs::CSensoryFrame* /*obs*/,
       const mrpt::bayes::CParticleFilter::TParticleFilterOptions& /*options*/) override {
-    // Proposal = motion model.
+    if (beacon_) {
+      // Screen against the predicted moments: the cloud moved by d, plus sigma_d^2 I.
+      Eigen::Vector3d mean_m;
+      Eigen::Matrix3d cov_m2;
+      moments(m_particles, mean_m, cov_m2);
+      mean_m += u_m_;
+      cov_m2 += sigma_q_m_ * sigma_q_m_ * Eigen::Matrix3d::Identity();
+      predicted_mean_m_ = mean_m;
+      verdict_ = screen_beacon(config_, beacon_, mean_m, cov_m2, consecutive_gated_, counters_);
+    }
+    if (verdict_ == BeaconVerdict::kFuse) {
+      // Locally linearised optimal proposal with exact weights (optimal_proposal.h).
+      const WhitenedBeacon measurement{to_vector(*beacon_),
+                                       floored_beacon_cov(config_).diagonal().cwiseSqrt().cwiseInverse()};
+      const Eigen::Matrix3d W = Eigen::Matrix3d::Identity() / (sigma_q_m_ * sigma_q_m_);
+      const OptimalProposal<3, WhitenedBeacon> proposal(measurement, predicted_mean_m_, W);
+      for (auto& p : m_particles) {
+        Eigen::Vector3d eps;
+        for (int a = 0; a < 3; ++a) eps(a) = rng_.drawGaussian1D_normalized();
+        Eigen::Vector3d q_m;
+        p.log_w += proposal.sample(Eigen::Vector3d(p.d + u_m_), W, eps, q_m);
+        p.d = q_m;
+      }
+      return;
+    }
+    // No beacon to fuse: the motion model is the proposal.
     for (auto& p : m_particles) {
       for (int a = 0; a < 3; ++a) p.d(a) += u_m_(a) + sigma_q_m_ * rng_.drawGaussian1D_normalized();
     }
-    if (!beacon_) return;
-    Eigen::Vector3d mean_m;
-    Eigen::Matrix3d cov_m2;
-    moments(m_particles, mean_m, cov_m2);
-    verdict_ = screen_beacon(config_, beacon_, mean_m, cov_m2, consecutive_gated_, counters_);
     if (verdict_ == BeaconVerdict::kReset) {
       reset_belief_ = beacon_fix(*beacon_,
                                  std::max(config_.noise.sigma_range_m, config_.min_sigma_range_m),
                                  std::max(config_.noise.sigma_angle_rad, config_.min_sigma_angle_rad));
-      return;
-    }
-    if (verdict_ != BeaconVerdict::kFuse) return;
-    // Likelihood: R is diagonal, so y^T R^-1 y is a sum of three squares.
-    const Eigen::Vector3d z = to_vector(*beacon_);
-    const Eigen::Vector3d inv_var = floored_beacon_cov(config_).diagonal().cwiseInverse();
-    for (auto& p : m_particles) {
-      const Eigen::Vector3d y = beacon_innovation(z, beacon_predict(p.d));
-      p.log_w += -0.5 * y.cwiseAbs2().dot(inv_var);
     }
   }
 
@@ -202,6 +249,7 @@ class ParticlePositionFilter::Mrpt final
   double sigma_q_m_ = 0.0;
   std::optional<BeaconMeasurement> beacon_;
   BeaconVerdict verdict_ = BeaconVerdict::kNone;
+  Eigen::Vector3d predicted_mean_m_ = Eigen::Vector3d::Zero();
   Belief reset_belief_;
 };
 

@@ -28,6 +28,18 @@ constexpr double kMinFractionInBand = 0.90;
 constexpr int kConsistencyEpochs = 200;
 constexpr int kConsistencyParticles = 2000;
 
+double mean_nees(const std::vector<TrialResult>& trials) {
+  double sum = 0.0;
+  int n = 0;
+  for (const auto& t : trials) {
+    for (const double v : t.nees) {
+      sum += v;
+      ++n;
+    }
+  }
+  return sum / n;
+}
+
 TrialSpec consistency_spec() {
   TrialSpec spec;
   spec.num_epochs = kConsistencyEpochs;
@@ -76,6 +88,34 @@ TEST_P(Consistency, PessimisticNoiseModel_FailsTheSameCheck) {
   std::cout << to_string(GetParam()) << ": pessimistic, fraction in band = " << fraction
             << "\n";
   EXPECT_LT(fraction, kMinFractionInBand);
+}
+
+TEST_P(Consistency, SmallestBeaconNoise_AverageNeesInside95BandOn90PercentOfEpochs) {
+  // GIVEN: the smallest beacon noise a filter represents, its angle floor (1e-6 rad: a 1 mm
+  // lateral 1-sigma at 1 km, far below the centimetres of dead-reckoning noise per epoch), in
+  // truth and in the model. The particle filter's optimal proposal is what keeps it consistent.
+  TrialSpec spec = consistency_spec();
+  spec.sim.sigma_angle_rad = spec.filter.min_sigma_angle_rad;
+  spec.filter.noise.sigma_angle_rad = spec.filter.min_sigma_angle_rad;
+  const auto trials = run_trials(GetParam(), spec, kNumTrials);
+  const double fraction = fraction_of_epochs_in_nees_band(trials);
+  std::cout << to_string(GetParam()) << ": smallest beacon noise, mean NEES " << mean_nees(trials)
+            << ", fraction of epochs in NEES band = " << fraction << "\n";
+  EXPECT_GE(fraction, kMinFractionInBand);
+}
+
+TEST(ZeroBeaconNoise, PfNeesAsTheEkfs) {
+  // GIVEN: the co-evaluation's beacon noise 0: a noise-free angle, the filters floored at 1e-6.
+  // Both are then pessimistic laterally (NEES below 3); the particle filter must be as
+  // consistent as the EKF, not collapse (its NEES was ~1e6 with the motion model as proposal).
+  TrialSpec spec = consistency_spec();
+  spec.sim.sigma_angle_rad = 0.0;
+  spec.filter.noise.sigma_angle_rad = spec.filter.min_sigma_angle_rad;
+  const double ekf = mean_nees(run_trials(FilterKind::kEkf, spec, kNumTrials));
+  const double pf = mean_nees(run_trials(FilterKind::kParticle, spec, kNumTrials));
+  std::cout << "beacon noise 0: mean NEES ekf = " << ekf << ", pf = " << pf << "\n";
+  EXPECT_LT(pf, 1.5 * ekf);
+  EXPECT_GT(pf, ekf / 1.5);
 }
 
 INSTANTIATE_TEST_SUITE_P(BothFilters, Consistency,

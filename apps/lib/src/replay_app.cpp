@@ -25,9 +25,30 @@ bool read_completely(const MissionLog& log) {
   const bool clean_end = log.read_status.stop == RawlogStop::kEnd;
   return log.ours ? log.complete && log.integrity_error.empty() && clean_end : clean_end;
 }
+
+// A foreign log the mission replay can use holds a BS beacon (CObservationBearingRange); else
+// the reason, naming what the log holds instead.
+std::string unusable_foreign_log(const MissionLog& log) {
+  for (const auto& [key, n] : log.used) {
+    if (key.find("CObservationBearingRange") != std::string::npos && n > 0) return "";
+  }
+  std::int64_t ranges = 0;
+  for (const auto& [key, n] : log.skipped) {
+    if (key.find("CObservationBeaconRanges") != std::string::npos) ranges += n;
+  }
+  if (ranges > 0) {
+    return "no usable measurement: " + std::to_string(ranges) +
+           " CObservationBeaconRanges but no beacon map (give --beacons FILE, one 'ID x y z' per line)";
+  }
+  std::string classes;
+  for (const auto& [key, n] : log.skipped) classes += (classes.empty() ? "" : ", ") + key + " x " + std::to_string(n);
+  return "no usable measurement: no beacon observation (CObservationBearingRange or CObservationBeaconRanges); "
+         "skipped: " + (classes.empty() ? std::string("nothing") : classes);
+}
 }  // namespace
 
 int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostream& err) {
+  if (!options.beacons_path.empty() || !options.mrpt_config.empty()) return run_range_replay_app(options, out, err);
   ReplayOptions ro;
   try {
     if (options.estimator == "ekf" || options.estimator == "pf") {
@@ -50,6 +71,10 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
   try {
     RawlogReader reader = RawlogReader::open_file(options.rawlog_path, reader_options);
     log = load_mission_log(reader);
+    // (An incomplete log goes on: its prefix is replayed and the exit code is 1 with where reading stopped.)
+    if (!log.ours && read_completely(log)) {
+      if (const std::string why = unusable_foreign_log(log); !why.empty()) throw common::InputError(why);
+    }
     try {
       result = replay_mission(log, ro);
     } catch (const common::InputError& e) {

@@ -16,6 +16,7 @@
 #include "losmimo/fusion/centralized.h"
 #include "losmimo/coevaluation/report.h"
 #include "losmimo/localization/beacon_model.h"
+#include "losmimo/localization/initial_belief.h"
 #include "losmimo/placement/metrics.h"
 
 namespace losmimo::coevaluation {
@@ -95,13 +96,9 @@ class EkfPositionSource {
     std::optional<localization::BeaconMeasurement> z;
     if (!uav.filter) {
       z = uav.simulator.measure_beacon(q_m, 0);
-      if (z) {
-        belief = localization::beacon_fix(*z, filter_config_.noise.sigma_range_m, filter_config_.noise.sigma_angle_rad);
-      } else {
-        const double sigma_m = scenario_.cube_side_m / std::sqrt(12.0);  // uniform start cube
-        belief.mean_m = scenario_.cube_center_m;
-        belief.cov_m2 = sigma_m * sigma_m * Eigen::Matrix3d::Identity();
-      }
+      // The closed loop's epoch-0 rule (localization/initial_belief.h).
+      belief = localization::initial_belief(z, filter_config_, localization::start_cube_prior(scenario_, filter_config_))
+                   .belief;
       uav.filter = localization::make_filter(localization::FilterKind::kEkf, filter_config_, belief, uav.filter_seed);
     } else {
       ++uav.epoch;

@@ -14,6 +14,7 @@
 
 #include "losmimo/fusion/refinement.h"
 #include "losmimo/localization/beacon_model.h"
+#include "losmimo/localization/initial_belief.h"
 #include "losmimo/placement/channel.h"
 #include "losmimo/common/input_error.h"
 #include "losmimo/placement/metrics.h"
@@ -71,7 +72,6 @@ ReplayResult replay_mission(const MissionLog& log, const ReplayOptions& options)
 
   const int nr = log.num_uavs;
   const int num_epochs = static_cast<int>(log.epochs.size());
-  const double prior_sigma_m = scenario.cube_side_m / std::sqrt(12.0);
   std::vector<std::unique_ptr<localization::PositionFilter>> filters(nr);
   std::vector<std::optional<fusion::SlidingWindowRefiner>> refiners(nr);
   const placement::ChannelModel model(scenario);
@@ -101,14 +101,8 @@ ReplayResult replay_mission(const MissionLog& log, const ReplayOptions& options)
       if (silent) {
         filtered = held_filtered[m];
       } else if (k == 0) {
-        if (z) {
-          filtered = localization::beacon_fix(*z, cl.filter.noise.sigma_range_m, cl.filter.noise.sigma_angle_rad);
-        } else {
-          filtered.mean_m = scenario.cube_center_m;
-          filtered.cov_m2 = prior_sigma_m * prior_sigma_m * Eigen::Matrix3d::Identity();
-          filtered.degraded = true;
-          filtered.epochs_since_beacon = cl.filter.degraded_after_epochs;
-        }
+        // The closed loop's epoch-0 rule (localization/initial_belief.h).
+        filtered = localization::initial_belief(z, cl.filter, localization::start_cube_prior(scenario, cl.filter)).belief;
         const std::uint64_t seed = m < static_cast<int>(log.filter_seeds.size()) ? log.filter_seeds[m] : m;
         filters[m] = localization::make_filter(cl.filter_kind, cl.filter, filtered, seed);
         if (cl.refine) refiners[m].emplace(scenario, cl.refinement);

@@ -136,9 +136,26 @@ struct FilterCounters {
   // Epochs in which the state became non-finite (the covariance was reset, see above).
   std::int64_t non_finite_state = 0;
 
+  // Ranges to mapped beacons (the pose filters, pose_filter.h): every reading of every scan is
+  // counted once in ranges_received, then either fused (ranges_fused, which includes the
+  // readings of a reset's fix) or rejected for exactly one reason (range_model.h's screen,
+  // then the filter's geometry and gate checks).
+  std::int64_t ranges_received = 0;
+  std::int64_t ranges_fused = 0;
+  std::int64_t rejected_non_finite_range = 0;       // non-finite or <= 0 (or its scan's stdError)
+  std::int64_t rejected_unknown_beacon = 0;         // ID not in the beacon map
+  std::int64_t rejected_outside_sensor_limits = 0;  // outside [min, max]SensorDistance
+  std::int64_t rejected_implausible_range = 0;      // above max_beacon_range_m
+  std::int64_t rejected_range_geometry = 0;         // predicted sensor-beacon distance ~ 0
+  std::int64_t rejected_range_gate = 0;
+
+  std::int64_t rejected_ranges() const {
+    return rejected_non_finite_range + rejected_unknown_beacon + rejected_outside_sensor_limits +
+           rejected_implausible_range + rejected_range_geometry + rejected_range_gate;
+  }
   std::int64_t rejected_total() const {
     return rejected_non_finite_displacement + rejected_non_finite_beacon +
-           rejected_out_of_range_beacon + rejected_geometry + rejected_gate;
+           rejected_out_of_range_beacon + rejected_geometry + rejected_gate + rejected_ranges();
   }
 };
 

@@ -4,10 +4,24 @@
 // filter.h and beacon_model.h.
 //
 // Particles q_i with log-weights l_i, i = 1..N (N = config.num_particles).
-// Prediction (the proposal): q_i = q_i + d + sigma_d(|d|) n_i, n_i ~ N(0, I).
-// Update: l_i += -1/2 y_i^T R^-1 y_i, y_i = z - h(q_i) with wrapped angles.
-// Gate and health use the moment-matched prediction (weighted mean and covariance), so both
-// filters apply the same rules to the same kind of belief.
+// Epoch with a fused beacon: each particle is drawn from the locally linearised optimal proposal
+// (optimal_proposal.h) with qbar_i = q_i + d, Q = sigma_d(|d|)^2 I and the beacon as whitened
+// residuals (z - h(q)) / sigma (angles wrapped); l_i gets the exact importance weight. This is the
+// fix for the smallest beacon noises: with the motion model as the proposal, a beacon whose
+// lateral 1-sigma (1 mm at 1 km for sigma_angle 1e-6) is far below the dead-reckoning spread
+// leaves a few particles with all the weight, and the moment-matched covariance collapses (NEES
+// ~1e6 in the co-evaluation at beacon noise 0); drawn from the optimal proposal, every particle
+// lands inside the likelihood and the weights only reflect the predictive likelihood.
+// Measured (seeded; before -> after): co-evaluation at beacon noise 0 (2 trials, 1000 particles)
+// NEES 2.5e6 / 6.6e5 -> 0.97 / 0.82 (the EKF: 0.96 / 0.82), RMSE 0.087 / 0.068 -> 0.036 m;
+// tests/localization/consistency_test.cpp (50 runs x 200 epochs, 2000 particles): at
+// sigma_angle_rad = 1e-6 in truth and model, mean NEES 1.1e7 -> 4.6 (3 dof; epochs in the 95%
+// band 0 -> 0.94), and with a noise-free angle 1.2e7 -> 1.44 (the EKF: 1.04). Cost: each particle
+// takes two to three 3x3 Gauss-Newton steps instead of one draw (bench_localization).
+// Epoch without one (none, rejected, or a reset): the motion model is the proposal,
+// q_i = q_i + d + sigma_d(|d|) n_i, n_i ~ N(0, I).
+// Gate and health use the predicted moments (the weighted mean and covariance of the q_i, moved
+// by d, plus sigma_d^2 I), so both filters apply the same rules to the same kind of belief.
 // Resampling when ESS / N < config.ess_threshold, with config.resampling (resampling.h): MRPT's
 // own automatic resampling is switched off (BETA = 0) because it draws from the global
 // getRandomGenerator(). After resampling, a Liu-West kernel jitter with bandwidth

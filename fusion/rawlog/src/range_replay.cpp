@@ -1,0 +1,308 @@
+#include "losmimo/rawlog/range_replay.h"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+
+#include "losmimo/common/format.h"
+#include "losmimo/common/input_error.h"
+#include "losmimo/localization/beacon_model.h"
+
+namespace losmimo::rawlog {
+
+namespace {
+
+using namespace localization;
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+constexpr double kPi = 3.14159265358979323846;
+
+std::string num(double v) { return common::format_g(v, common::kCsvDigits); }
+
+PoseBox beacon_box(const BeaconMap& beacons) {
+  PoseBox box;
+  box.min = Eigen::Vector4d::Constant(std::numeric_limits<double>::infinity());
+  box.max = -box.min;
+  for (const auto& [id, p] : beacons.beacons()) {
+    box.min.head<3>() = box.min.head<3>().cwiseMin(p);
+    box.max.head<3>() = box.max.head<3>().cwiseMax(p);
+  }
+  box.min(kPoseZ) -= 1.0;
+  box.max(kPoseZ) += 1.0;
+  box.min(kPoseYaw) = -kPi;
+  box.max(kPoseYaw) = kPi;
+  return box;
+}
+
+std::string describe(const PosePrior& prior) {
+  std::ostringstream s;
+  if (const auto* box = std::get_if<PoseBox>(&prior)) {
+    s << "uniform x [" << box->min(0) << ", " << box->max(0) << "] y [" << box->min(1) << ", " << box->max(1)
+      << "] z [" << box->min(2) << ", " << box->max(2) << "] yaw [" << box->min(3) << ", " << box->max(3) << "] rad";
+  } else {
+    const auto& g = std::get<PoseBelief>(prior);
+    s << "Gaussian mean (" << g.mean(0) << ", " << g.mean(1) << ", " << g.mean(2) << ", " << g.mean(3)
+      << " rad) sigma (" << std::sqrt(g.cov(0, 0)) << ", " << std::sqrt(g.cov(1, 1)) << ", "
+      << std::sqrt(g.cov(2, 2)) << ", " << std::sqrt(g.cov(3, 3)) << " rad)";
+  }
+  return s.str();
+}
+
+void add_counters(FilterCounters& to, const FilterCounters& from) {
+  to.ranges_received += from.ranges_received;
+  to.ranges_fused += from.ranges_fused;
+  to.rejected_non_finite_range += from.rejected_non_finite_range;
+  to.rejected_unknown_beacon += from.rejected_unknown_beacon;
+  to.rejected_outside_sensor_limits += from.rejected_outside_sensor_limits;
+  to.rejected_implausible_range += from.rejected_implausible_range;
+  to.rejected_range_geometry += from.rejected_range_geometry;
+  to.rejected_range_gate += from.rejected_range_gate;
+  to.resets += from.resets;
+  to.resamplings += from.resamplings;
+  to.covariance_repairs += from.covariance_repairs;
+  to.non_finite_state += from.non_finite_state;
+  to.epochs += from.epochs;
+}
+
+// Post-fit residuals of the frame's screened readings at `pose`.
+void post_fit(const RangeFrame& frame, const BeaconMap& beacons, const PoseFilterConfig& config,
+              const Eigen::Vector4d& pose, RangeTrackRow& row) {
+  for (const BeaconRangeScan& scan : frame.scans) {
+    const double sigma = range_sigma_m(config, scan);
+    for (const BeaconRange& r : scan.ranges) {
+      if (screen_range(r, scan, beacons, sigma, config.filter.max_beacon_range_m) != RangeVerdict::kUsable) continue;
+      const double e = r.range_m - range_predict(pose, r.sensor_on_robot_m, *beacons.find(r.beacon_id));
+      row.residual_sum_sq_m2 += e * e;
+      ++row.residuals;
+    }
+  }
+}
+
+// The reason a log has nothing to fuse, or empty.
+std::string nothing_to_fuse(const RangeLog& log, const BeaconMap& beacons) {
+  if (log.beacon_observations == 0) {
+    return "no CObservationBeaconRanges in the log (read: " + describe_counts(log.used) +
+           "; skipped: " + describe_counts(log.skipped) + ")";
+  }
+  if (beacons.empty()) return "no beacon map";
+  std::set<std::int32_t> ids;
+  for (const RangeFrame& f : log.frames)
+    for (const BeaconRangeScan& s : f.scans)
+      for (const BeaconRange& r : s.ranges) ids.insert(r.beacon_id);
+  for (const std::int32_t id : ids)
+    if (beacons.find(id)) return "";
+  std::ostringstream s;
+  s << "none of the log's beacon IDs (";
+  int n = 0;
+  for (const std::int32_t id : ids) {
+    if (n++ == 10) {
+      s << ", ...";
+      break;
+    }
+    s << (n > 1 ? ", " : "") << id;
+  }
+  s << ") is in the beacon map (IDs ";
+  n = 0;
+  for (const auto& [id, p] : beacons.beacons()) {
+    if (n++ == 10) {
+      s << ", ...";
+      break;
+    }
+    s << (n > 1 ? ", " : "") << id;
+  }
+  s << ")";
+  return s.str();
+}
+
+}  // namespace
+
+RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, const RangeReplayOptions& options) {
+  if (const std::string why = nothing_to_fuse(log, beacons); !why.empty()) throw common::InputError(why);
+  validate(options.config);
+  RangeReplayResult out;
+  out.estimator = to_string(options.estimator);
+  out.settle_steps = options.settle_steps;
+  const PosePrior prior = options.prior ? *options.prior : PosePrior(beacon_box(beacons));
+  out.prior_description = describe(prior);
+
+  const RangeFrame& first = log.frames.front();
+  const InitialPose start = initial_pose(first.scans, beacons, options.config, prior);
+  // Without a fix, frame 0's readings are counted by the filter's first step() instead.
+  if (start.fix) {
+    add_counters(out.counters, start.counters);
+    out.fused_in_fix = start.counters.ranges_fused;
+  }
+  const std::unique_ptr<PoseFilter> filter =
+      make_pose_filter(options.estimator, options.config, beacons, start, options.seed);
+  Eigen::Vector4d dr = moments(start).mean;
+  std::size_t pair = 0;  // (action, sensory frame) pairs so far: the ground-truth row index
+
+  for (std::size_t k = 0; k < log.frames.size(); ++k) {
+    const RangeFrame& frame = log.frames[k];
+    RangeTrackRow row;
+    row.step = frame.step;
+    row.timestamp_s = frame.timestamp_s;
+    for (const BeaconRangeScan& s : frame.scans) row.ranges += static_cast<int>(s.ranges.size());
+    if (k == 0 && start.fix) {
+      row.belief = filter->belief();
+    } else {
+      OdometryIncrement u;
+      if (k > 0 && frame.has_odometry) {
+        u = frame.odometry;
+      } else if (k > 0) {
+        const double q = options.no_odometry_sigma_m * options.no_odometry_sigma_m;
+        u.cov.diagonal() << q, q, q, options.no_odometry_sigma_yaw_rad * options.no_odometry_sigma_yaw_rad;
+      }
+      filter->step(u, frame.scans);
+      row.belief = filter->belief();
+      row.innovations = filter->last_innovations();
+      if (k > 0 && frame.has_odometry) dr = compose(dr, frame.odometry.delta);
+    }
+    row.dead_reckoning = dr;
+    if (frame.has_odometry && pair < options.ground_truth.size()) {
+      const Eigen::Vector3d& rel = options.ground_truth[pair];
+      const Eigen::Vector3d& o = options.ground_truth_origin;
+      const double c = std::cos(o(2)), sn = std::sin(o(2));
+      row.has_truth = true;
+      row.truth = Eigen::Vector3d(o(0) + c * rel(0) - sn * rel(1), o(1) + sn * rel(0) + c * rel(1),
+                                  wrap_angle_rad(o(2) + rel(2)));
+      const Eigen::Vector2d e = row.belief.mean.head<2>() - row.truth.head<2>();
+      row.error_m = e.norm();
+      row.nees = e.dot(row.belief.cov.topLeftCorner<2, 2>().ldlt().solve(e));
+      row.dr_error_m = (dr.head<2>() - row.truth.head<2>()).norm();
+    }
+    if (frame.has_odometry) ++pair;
+    post_fit(frame, beacons, options.config, row.belief.mean, row);
+    out.track.push_back(row);
+  }
+  add_counters(out.counters, filter->counters());
+
+  double innov_sq = 0.0, nis = 0.0, res_sq = 0.0, res_sq_settled = 0.0, err_sq = 0.0, nees = 0.0, dr_sq = 0.0;
+  std::int64_t innov_n = 0;
+  for (const RangeTrackRow& r : out.track) {
+    innov_sq += r.innovations.sum_sq_m2;
+    nis += r.innovations.nis_sum;
+    innov_n += r.innovations.fused;
+    res_sq += r.residual_sum_sq_m2;
+    out.residuals += r.residuals;
+    if (r.has_truth) {
+      ++out.truth_frames;
+      err_sq += r.error_m * r.error_m;
+      nees += r.nees;
+      dr_sq += r.dr_error_m * r.dr_error_m;
+    }
+    if (r.step >= options.settle_steps) {
+      res_sq_settled += r.residual_sum_sq_m2;
+      out.residuals_settled += r.residuals;
+    }
+  }
+  if (out.counters.ranges_fused == 0) {
+    throw common::InputError("no range was fused: " + std::to_string(out.counters.ranges_received) +
+                             " received, rejected: unknown beacon " +
+                             std::to_string(out.counters.rejected_unknown_beacon) + ", outside sensor limits " +
+                             std::to_string(out.counters.rejected_outside_sensor_limits) + ", non-finite " +
+                             std::to_string(out.counters.rejected_non_finite_range) + ", implausible " +
+                             std::to_string(out.counters.rejected_implausible_range) + ", gate " +
+                             std::to_string(out.counters.rejected_range_gate));
+  }
+  out.innovation_rms_m = innov_n ? std::sqrt(innov_sq / static_cast<double>(innov_n)) : kNan;
+  out.mean_nis = innov_n ? nis / static_cast<double>(innov_n) : kNan;
+  out.residual_rms_m = out.residuals ? std::sqrt(res_sq / static_cast<double>(out.residuals)) : kNan;
+  out.residual_rms_settled_m =
+      out.residuals_settled ? std::sqrt(res_sq_settled / static_cast<double>(out.residuals_settled)) : kNan;
+  const double nt = static_cast<double>(out.truth_frames);
+  out.rmse_m = out.truth_frames ? std::sqrt(err_sq / nt) : kNan;
+  out.mean_nees = out.truth_frames ? nees / nt : kNan;
+  out.dr_rmse_m = out.truth_frames ? std::sqrt(dr_sq / nt) : kNan;
+  return out;
+}
+
+void write_range_readings_csv(const RangeLog& log, const std::string& path) {
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error(path + ": cannot write");
+  f << "step,beacon_id,range_m,sensor_x_m,sensor_y_m,sensor_z_m,std_error_m\n";
+  for (const RangeFrame& fr : log.frames)
+    for (const BeaconRangeScan& s : fr.scans)
+      for (const BeaconRange& r : s.ranges) {
+        f << fr.step << "," << r.beacon_id << "," << num(r.range_m) << "," << num(r.sensor_on_robot_m.x()) << ","
+          << num(r.sensor_on_robot_m.y()) << "," << num(r.sensor_on_robot_m.z()) << "," << num(s.std_error_m) << "\n";
+      }
+  if (!f) throw std::runtime_error(path + ": write failed");
+}
+
+void write_range_track_csv(const RangeReplayResult& result, const std::string& path) {
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error(path + ": cannot write");
+  f << "step,timestamp_s,x_m,y_m,z_m,heading_rad,var_x_m2,var_y_m2,var_z_m2,var_heading_rad2,ranges,fused,"
+       "innovation_rms_m,nis,residual_rms_m,dr_x_m,dr_y_m,dr_z_m,dr_heading_rad,gt_x_m,gt_y_m,gt_heading_rad,error_m,nees,dr_error_m\n";
+  for (const RangeTrackRow& r : result.track) {
+    const auto& m = r.belief.mean;
+    const auto& P = r.belief.cov;
+    const int n = r.innovations.fused;
+    f << r.step << "," << common::format_g(r.timestamp_s, common::kExactDigits) << "," << num(m(0)) << ","
+      << num(m(1)) << "," << num(m(2)) << "," << num(m(3)) << "," << num(P(0, 0)) << "," << num(P(1, 1)) << ","
+      << num(P(2, 2)) << "," << num(P(3, 3)) << "," << r.ranges << "," << n << ","
+      << (n ? num(std::sqrt(r.innovations.sum_sq_m2 / n)) : "nan") << ","
+      << (n ? num(r.innovations.nis_sum / n) : "nan") << ","
+      << (r.residuals ? num(std::sqrt(r.residual_sum_sq_m2 / r.residuals)) : "nan") << ","
+      << num(r.dead_reckoning(0)) << "," << num(r.dead_reckoning(1)) << "," << num(r.dead_reckoning(2)) << ","
+      << num(r.dead_reckoning(3));
+    if (r.has_truth) {
+      f << "," << num(r.truth(0)) << "," << num(r.truth(1)) << "," << num(r.truth(2)) << "," << num(r.error_m) << ","
+        << num(r.nees) << "," << num(r.dr_error_m) << "\n";
+    } else {
+      f << ",nan,nan,nan,nan,nan,nan\n";
+    }
+  }
+  if (!f) throw std::runtime_error(path + ": write failed");
+}
+
+std::vector<std::pair<std::string, std::string>> range_summary_rows(const RangeLog& log,
+                                                                    const RangeReplayResult& r) {
+  const FilterCounters& c = r.counters;
+  const auto i = [](std::int64_t v) { return std::to_string(v); };
+  std::vector<std::pair<std::string, std::string>> rows = {
+      {"mode", "range_only"},
+      {"estimator", r.estimator},
+      {"prior", r.prior_description},
+      {"frames", i(static_cast<std::int64_t>(r.track.size()))},
+      {"beacon_observations", i(log.beacon_observations)},
+      {"ranges_received", i(c.ranges_received)},
+      {"ranges_fused", i(c.ranges_fused)},
+      {"ranges_fused_in_start_fix", i(r.fused_in_fix)},
+      {"skipped_unknown_beacon", i(c.rejected_unknown_beacon)},
+      {"skipped_outside_sensor_limits", i(c.rejected_outside_sensor_limits)},
+      {"skipped_non_finite_range", i(c.rejected_non_finite_range)},
+      {"skipped_implausible_range", i(c.rejected_implausible_range)},
+      {"skipped_geometry", i(c.rejected_range_geometry)},
+      {"skipped_gate", i(c.rejected_range_gate)},
+      {"resets", i(c.resets)},
+      {"innovation_rms_m", num(r.innovation_rms_m)},
+      {"mean_nis", num(r.mean_nis)},
+      {"residual_rms_m", num(r.residual_rms_m)},
+      {"settle_steps", std::to_string(r.settle_steps)},
+      {"residual_rms_settled_m", num(r.residual_rms_settled_m)},
+      {"ground_truth_frames", i(r.truth_frames)},
+      {"rmse_xy_m", num(r.rmse_m)},
+      {"mean_nees_xy", num(r.mean_nees)},
+      {"dead_reckoning_rmse_xy_m", num(r.dr_rmse_m)},
+      {"other_classes_skipped", describe_counts(log.skipped)},
+      {"trailing_actions", i(log.trailing_actions)},
+  };
+  if (!r.track.empty()) {
+    const auto& m = r.track.back().belief.mean;
+    const auto& d = r.track.back().dead_reckoning;
+    rows.push_back({"final_x_m", num(m(0))});
+    rows.push_back({"final_y_m", num(m(1))});
+    rows.push_back({"final_heading_rad", num(m(3))});
+    rows.push_back({"final_dr_x_m", num(d(0))});
+    rows.push_back({"final_dr_y_m", num(d(1))});
+    rows.push_back({"final_dr_heading_rad", num(d(3))});
+  }
+  return rows;
+}
+
+}  // namespace losmimo::rawlog
