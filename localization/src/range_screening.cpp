@@ -37,6 +37,7 @@ RangeUpdatePlan plan_range_update(const PoseFilterConfig& config, const BeaconMa
         continue;
       }
       plan.fuse.push_back(u);
+      plan.innovations.readings.push_back({u.beacon_m, u.sensor_on_robot_m, u.range_m});
       ++plan.innovations.fused;
       plan.innovations.sum_sq_m2 += y * y;
       plan.innovations.nis_sum += y * y / S;
@@ -74,6 +75,7 @@ RangeUpdatePlan plan_range_update(const PoseFilterConfig& config, const BeaconMa
       consecutive_gated_epochs = 0;
       ++counters.resets;
       counters.ranges_fused += static_cast<std::int64_t>(gated.size());
+      for (const UsableRange& u : gated) plan.innovations.readings.push_back({u.beacon_m, u.sensor_on_robot_m, u.range_m});
       return plan;
     }
   }

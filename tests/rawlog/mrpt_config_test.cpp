@@ -140,5 +140,27 @@ TEST(RangeReplayGroundTruth, BadGroundTruthLine_NamesLineAndColumn) {
   }
 }
 
+TEST(BeaconsIni, WrittenMap_ReadsBackAsTheSameBeaconsThroughTheStockKeys) {
+  // GIVEN: beacons with IDs out of order and positions that need all 17 digits.
+  localization::BeaconMap map;
+  map.add(7, Eigen::Vector3d(0.1, -2.0 / 3.0, 12.5));
+  map.add(2, Eigen::Vector3d(1e-9, 3.0, -4.25));
+  map.add(40, Eigen::Vector3d(-1234.5678901234567, 0.0, 0.0));
+  const std::string path = test_support::temp_path("beacons.ini");
+  write_beacons_ini(map, path);
+  // THEN: the stock keys are there and read_mrpt_app_config gives back the same map, bit for bit.
+  const std::string text = beacons_ini_text(map);
+  EXPECT_NE(text.find("[MetricMap_landmarksMap_00_creationOpts]"), std::string::npos);
+  EXPECT_NE(text.find("nBeacons = 3"), std::string::npos);
+  EXPECT_NE(text.find("beacon_001_ID = 2"), std::string::npos);
+  const MrptAppConfig c = read_mrpt_app_config(path);
+  ASSERT_EQ(c.beacons.size(), map.size());
+  for (const auto& [id, p] : map.beacons()) {
+    ASSERT_TRUE(c.beacons.find(id)) << id;
+    EXPECT_EQ(*c.beacons.find(id), p) << id;
+  }
+  EXPECT_THROW(beacons_ini_text(localization::BeaconMap()), common::InputError);
+}
+
 }  // namespace
 }  // namespace losmimo::rawlog

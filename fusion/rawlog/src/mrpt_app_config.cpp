@@ -8,6 +8,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include <mrpt/config/CConfigFile.h>
 
@@ -171,6 +172,29 @@ std::vector<Eigen::Vector3d> read_relative_ground_truth(const std::string& path)
   }
   if (rows.empty()) throw common::InputError(path + ": no ground-truth row");
   return rows;
+}
+
+std::string beacons_ini_text(const localization::BeaconMap& beacons) {
+  if (beacons.empty()) throw common::InputError("beacons.ini: no beacon to write (empty beacon map)");
+  std::ostringstream s;
+  s.precision(17);
+  s << "[" << kCreation << "]\nnBeacons = " << beacons.size() << "\n";
+  int q = 0;
+  for (const auto& [id, p] : beacons.beacons()) {
+    char prefix[32];
+    std::snprintf(prefix, sizeof prefix, "beacon_%03d_", ++q);
+    s << prefix << "ID = " << id << "\n"
+      << prefix << "X = " << p.x() << "\n"
+      << prefix << "Y = " << p.y() << "\n"
+      << prefix << "Z = " << p.z() << "\n";
+  }
+  return s.str();
+}
+
+void write_beacons_ini(const localization::BeaconMap& beacons, const std::string& path) {
+  const std::string text = beacons_ini_text(beacons);
+  std::ofstream f(path);
+  if (!(f << text)) throw std::runtime_error(path + ": cannot write");
 }
 
 }  // namespace losmimo::rawlog

@@ -67,16 +67,24 @@ void add_counters(FilterCounters& to, const FilterCounters& from) {
   to.epochs += from.epochs;
 }
 
-// Post-fit residuals of the frame's screened readings at `pose`.
+// Post-fit residuals at `pose` of the readings the frame fused: those of the filter's update (or
+// reset fix), or, for a frame that gave the start fix, every reading that passed the screen.
 void post_fit(const RangeFrame& frame, const BeaconMap& beacons, const PoseFilterConfig& config,
-              const Eigen::Vector4d& pose, RangeTrackRow& row) {
+              const Eigen::Vector4d& pose, bool start_fix, RangeTrackRow& row) {
+  const auto add = [&](double range_m, const Eigen::Vector3d& sensor_m, const Eigen::Vector3d& beacon_m) {
+    const double e = range_m - range_predict(pose, sensor_m, beacon_m);
+    row.residual_sum_sq_m2 += e * e;
+    ++row.residuals;
+  };
+  if (!start_fix) {
+    for (const FusedRange& r : row.innovations.readings) add(r.range_m, r.sensor_on_robot_m, r.beacon_m);
+    return;
+  }
   for (const BeaconRangeScan& scan : frame.scans) {
     const double sigma = range_sigma_m(config, scan);
     for (const BeaconRange& r : scan.ranges) {
       if (screen_range(r, scan, beacons, sigma, config.filter.max_beacon_range_m) != RangeVerdict::kUsable) continue;
-      const double e = r.range_m - range_predict(pose, r.sensor_on_robot_m, *beacons.find(r.beacon_id));
-      row.residual_sum_sq_m2 += e * e;
-      ++row.residuals;
+      add(r.range_m, r.sensor_on_robot_m, *beacons.find(r.beacon_id));
     }
   }
 }
@@ -175,7 +183,7 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
       row.dr_error_m = (dr.head<2>() - row.truth.head<2>()).norm();
     }
     if (frame.has_odometry) ++pair;
-    post_fit(frame, beacons, options.config, row.belief.mean, row);
+    post_fit(frame, beacons, options.config, row.belief.mean, k == 0 && start.fix.has_value(), row);
     out.track.push_back(row);
   }
   add_counters(out.counters, filter->counters());
@@ -282,9 +290,11 @@ std::vector<std::pair<std::string, std::string>> range_summary_rows(const RangeL
       {"resets", i(c.resets)},
       {"innovation_rms_m", num(r.innovation_rms_m)},
       {"mean_nis", num(r.mean_nis)},
+      {"residual_readings", i(r.residuals)},
       {"residual_rms_m", num(r.residual_rms_m)},
       {"settle_steps", std::to_string(r.settle_steps)},
       {"residual_rms_settled_m", num(r.residual_rms_settled_m)},
+      {"residual_readings_settled", i(r.residuals_settled)},
       {"ground_truth_frames", i(r.truth_frames)},
       {"rmse_xy_m", num(r.rmse_m)},
       {"mean_nees_xy", num(r.mean_nees)},

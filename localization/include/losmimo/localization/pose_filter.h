@@ -84,10 +84,18 @@ std::optional<std::string> health_problem(const PoseBelief& belief);
 // The innovations of an epoch's fused readings against the predicted belief, for residual and
 // consistency reports: y_j = r_j - h_j(predicted mean), S_j = H_j P H_j^T + sigma_j^2.
 // Averaged over epochs, nis_sum / fused is ~1 for a consistent filter (each reading alone).
+// A reading the filter used: in an update, or in the range fix of a reset.
+struct FusedRange {
+  Eigen::Vector3d beacon_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d sensor_on_robot_m = Eigen::Vector3d::Zero();
+  double range_m = 0.0;
+};
+
 struct RangeInnovations {
-  int fused = 0;
+  int fused = 0;           // readings fused in the update (not a reset's)
   double sum_sq_m2 = 0.0;  // sum of y_j^2
   double nis_sum = 0.0;    // sum of y_j^2 / S_j
+  std::vector<FusedRange> readings;  // every reading the epoch used (update or reset fix); gated ones are not here
 };
 
 // The 1-sigma a filter assumes for the readings of `scan` (see above).

@@ -42,6 +42,14 @@ struct MrptAppConfig {
 // value (a beacon's coordinate, a non-numeric nBeacons, ...), or for a file that does not exist.
 MrptAppConfig read_mrpt_app_config(const std::string& path);
 
+// `beacons` as the [MetricMap_landmarksMap_00_creationOpts] section stock ro-localization and
+// pf-localization read (nBeacons, beacon_NNN_ID / _X / _Y / _Z in ID order, positions in metres
+// with 17 significant digits, so read_mrpt_app_config gives back the same map). Throws
+// common::InputError for an empty map (the stock apps would localize against nothing).
+std::string beacons_ini_text(const localization::BeaconMap& beacons);
+// Writes beacons_ini_text to `path` (std::runtime_error if it cannot be written).
+void write_beacons_ini(const localization::BeaconMap& beacons, const std::string& path);
+
 // ro-localization's groundTruthFile: rows "k x y phi" (column 0 ignored; x, y [m] and phi [rad]
 // relative to the start pose); row k belongs to the k-th (action, sensory frame) pair.
 // Throws common::InputError naming the line and column.

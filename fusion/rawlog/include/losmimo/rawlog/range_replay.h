@@ -13,9 +13,11 @@
 // Figures:
 //   innovation RMS  sqrt(sum y_j^2 / n) over the fused readings, y_j against the prediction
 //   mean NIS        mean of y_j^2 / S_j over the fused readings (1 for a consistent filter)
-//   residual RMS    post-fit: r_j - h_j(updated mean) over every reading that passes the
-//                   range screen (range_model.h), all frames, and from frame settle_steps on
-//                   ("after convergence").
+//   residual RMS    post-fit: r_j - h_j(updated mean) over the readings the filter fused
+//                   (RangeInnovations::readings; the start fix's frame: every reading that
+//                   passes the range screen), all frames, and from frame settle_steps on
+//                   ("after convergence"). Gated outliers are not in it: they are counted in
+//                   counters.rejected_range_gate.
 // Ground truth (ro-localization's alignment, mrpt_app_config.h): row k of the relative rows
 // belongs to the k-th frame that has odometry (the k-th (action, sensory frame) pair); the truth
 // is origin (+) row (2-D). Per frame with truth: e = estimate - truth in (x, y), NEES
@@ -55,7 +57,7 @@ struct RangeTrackRow {
   Eigen::Vector4d dead_reckoning = Eigen::Vector4d::Zero();
   int ranges = 0;  // readings in the frame
   localization::RangeInnovations innovations;
-  double residual_sum_sq_m2 = 0.0;  // post-fit, screened readings
+  double residual_sum_sq_m2 = 0.0;  // post-fit, fused readings
   int residuals = 0;
   bool has_truth = false;
   Eigen::Vector3d truth = Eigen::Vector3d::Zero();  // (x_m, y_m, phi_rad), map frame
