@@ -19,7 +19,7 @@
 #include "losmimo/rawlog/reader.h"
 #include "losmimo/common/input_error.h"
 
-namespace lf = losmimo::fusion;
+namespace lf = losmimo::rawlog;
 
 namespace {
 void require(bool ok) {
