@@ -65,7 +65,7 @@ std::vector<common::Key<RunOptions>> run_keys() {
   using K = common::Key<RunOptions>;
   return {
       K::real("placement", "target_icn", &RunOptions::target_icn, {}, "the run stops at this ICN", "0.9"),
-      K::integer("placement", "max_iterations", &RunOptions::max_iterations, 0, 10'000'000,
+      K::integer("placement", "max_iterations", &RunOptions::max_iterations, 1, 10'000'000,
                  "the run stops after this many iterations", "50"),
       choice("placement", "stop_on", &RunOptions::stop_on, &stop_on_from_string, "csi | belief",
              "the stop test's ICN: of the measured channel, or of the planner's believed positions", "belief"),
