@@ -12,7 +12,11 @@ namespace losmimo::placement {
 namespace {
 // Flies to r, measures f with the others fixed, flies back: one probe. The cached channel is
 // brought up to date once per UAV turn (Swarm::sync_channel), not per flight.
-double probe(Swarm& swarm, const UavObjective& view, int m, const Eigen::Vector3d& r) {
+double probe(Swarm& swarm, const UavObjective& view, int m, const Eigen::Vector3d& r, ProbeActuation mode) {
+  if (mode == ProbeActuation::kKeptMoveOnly) {
+    swarm.count_exact_probe(m, r);
+    return view.objective_at(swarm.true_positions_m().col(m) + r);
+  }
   thread_local Eigen::VectorXcd row;  // reused: a probe allocates nothing
   swarm.move(m, r, MotionKind::kProbe, false);
   swarm.channel().model().row(swarm.true_positions_m().col(m), row);
@@ -21,6 +25,16 @@ double probe(Swarm& swarm, const UavObjective& view, int m, const Eigen::Vector3
   return f;
 }
 }  // namespace
+
+std::string to_string(ProbeActuation mode) {
+  return mode == ProbeActuation::kKeptMoveOnly ? "kept_move_only" : "every_leg";
+}
+
+ProbeActuation probe_actuation_from_string(const std::string& name) {
+  if (name == "every_leg") return ProbeActuation::kEveryLeg;
+  if (name == "kept_move_only") return ProbeActuation::kKeptMoveOnly;
+  throw std::invalid_argument("unknown probe actuation '" + name + "' (known: every_leg, kept_move_only)");
+}
 
 void validate(const BfOptions& o) {
   namespace r = bf_range;
@@ -49,7 +63,7 @@ void BruteForcePlanner::start(Swarm& swarm) {
   escape_rank_ = 0;
 }
 
-int BruteForcePlanner::step_uav(Swarm& swarm, int m, double b) {
+int BruteForcePlanner::step_uav(Swarm& swarm, int m, double b, ProbeActuation probe_actuation) {
   static const std::array<Eigen::Vector3d, 7> kProbes = {
       Eigen::Vector3d(0, 0, 0),  Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(-1, 0, 0),
       Eigen::Vector3d(0, 1, 0),  Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(0, 0, 1),
@@ -59,7 +73,7 @@ int BruteForcePlanner::step_uav(Swarm& swarm, int m, double b) {
   int best = 0;
   double best_f = view.objective_of_row(swarm.channel().H().row(m).transpose());
   for (int z = 1; z < static_cast<int>(kProbes.size()); ++z) {
-    const double f = probe(swarm, view, m, b * kProbes[z]);
+    const double f = probe(swarm, view, m, b * kProbes[z], probe_actuation);
     if (f < best_f) {
       best_f = f;
       best = z;
@@ -88,7 +102,7 @@ bool BruteForcePlanner::try_escape(Swarm& swarm) {
     for (int k = -kReach; k <= kReach; ++k) {
       if (k == 0 && i == 0) continue;
       const Eigen::Vector3d r(0.0, i * spacing, k * spacing);
-      const double f = probe(swarm, view, m, r);
+      const double f = probe(swarm, view, m, r, options_.probe_actuation);
       if (f < best_f) {
         best_f = f;
         best_r = r;
@@ -109,7 +123,7 @@ void BruteForcePlanner::iterate(Swarm& swarm, int iteration) {
   const double b = options_.step * std::pow(options_.decay, iteration - 1);
   for (int m = 0; m < swarm.num_uavs(); ++m) {
     const double b_m = std::max(b * step_scale_(m), std::min(b, options_.min_step_m));
-    const bool moved = step_uav(swarm, m, b_m) != 0;
+    const bool moved = step_uav(swarm, m, b_m, options_.probe_actuation) != 0;
     step_scale_(m) = moved ? std::min(1.0, step_scale_(m) / options_.contraction)
                            : step_scale_(m) * options_.contraction;
   }

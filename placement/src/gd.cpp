@@ -35,6 +35,12 @@ GradientDescentPlanner::GradientDescentPlanner(const Scenario& scenario, const G
 void GradientDescentPlanner::start(Swarm& /*swarm*/) {
   stall_.reset();
   escape_rank_ = 0;
+  believed_m_.resize(3, 0);
+}
+
+std::optional<Eigen::Matrix3Xd> GradientDescentPlanner::believed_positions() const {
+  if (believed_m_.cols() == 0) return std::nullopt;
+  return believed_m_;
 }
 
 bool GradientDescentPlanner::try_escape(Swarm& swarm) {
@@ -50,6 +56,7 @@ bool GradientDescentPlanner::try_escape(Swarm& swarm) {
                               lateral_period_m(wavelength_m_, q_hat.x(), bs_spacing_m_), options_.escape_half_grid);
     if (search.best_objective < (1.0 - options_.stall_min_decrease) * search.objective_at_start) {
       swarm.move(m, search.offset_m, MotionKind::kPlacement);
+      believed_m_.col(m) = q_hat + search.offset_m;
       moved = true;
     }
   }
@@ -77,10 +84,13 @@ Eigen::Vector3d GradientDescentPlanner::plan_move(const Swarm& swarm, int m,
 void GradientDescentPlanner::iterate(Swarm& swarm, int iteration) {
   // estimatePositionAll(), then calcGradientAndMoveDrone(d) for each drone in turn.
   const int nr = swarm.num_uavs();
-  Eigen::Matrix3Xd q_hat(3, nr);
+  Eigen::Matrix3Xd& q_hat = believed_m_;  // the estimates, then plus the moves: the belief
+  q_hat.resize(3, nr);
   for (int m = 0; m < nr; ++m) q_hat.col(m) = swarm.estimate_position(m);
   for (int m = 0; m < nr; ++m) {
-    swarm.move(m, plan_move(swarm, m, q_hat.col(m), iteration), MotionKind::kPlacement);
+    const Eigen::Vector3d r = plan_move(swarm, m, q_hat.col(m), iteration);
+    swarm.move(m, r, MotionKind::kPlacement);
+    q_hat.col(m) += r;
   }
   if (options_.escape && stall_.update(swarm.channel().objective()) && try_escape(swarm)) {
     stall_.reset();

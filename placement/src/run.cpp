@@ -30,6 +30,22 @@ std::string to_string(RunStatus status) {
   return "unknown";
 }
 
+std::string to_string(StopOn stop_on) { return stop_on == StopOn::kBelief ? "belief" : "csi"; }
+
+StopOn stop_on_from_string(const std::string& name) {
+  if (name == "csi") return StopOn::kCsi;
+  if (name == "belief") return StopOn::kBelief;
+  throw std::invalid_argument("unknown stop test '" + name + "' (known: csi, belief)");
+}
+
+std::string to_string(DistanceKind kind) { return kind == DistanceKind::kCommanded ? "commanded" : "true_path"; }
+
+DistanceKind distance_kind_from_string(const std::string& name) {
+  if (name == "true_path") return DistanceKind::kTruePath;
+  if (name == "commanded") return DistanceKind::kCommanded;
+  throw std::invalid_argument("unknown distance '" + name + "' (known: true_path, commanded)");
+}
+
 std::optional<PlannerFault> check_finite(const Swarm& swarm) {
   const Eigen::Matrix3Xd& q = swarm.true_positions_m();
   const Eigen::MatrixXcd& H = swarm.channel().H();
@@ -161,6 +177,15 @@ bool icn_below(const Eigen::MatrixXcd& G, int num_rows, double threshold, Eigen:
 
 namespace {
 
+const Eigen::VectorXd& placement_distances(const Swarm& swarm, const RunOptions& options) {
+  return options.distance == DistanceKind::kCommanded ? swarm.commanded_placement_distance_m()
+                                                      : swarm.placement_distance_m();
+}
+const Eigen::VectorXd& probe_distances(const Swarm& swarm, const RunOptions& options) {
+  return options.distance == DistanceKind::kCommanded ? swarm.commanded_probe_distance_m()
+                                                      : swarm.probe_distance_m();
+}
+
 IterationRecord record(const Swarm& swarm, int iteration, const RunOptions& options,
                        double proven_below, Eigen::VectorXcd& icn_warm_start) {
   IterationRecord r;
@@ -170,8 +195,8 @@ IterationRecord record(const Swarm& swarm, int iteration, const RunOptions& opti
               ? std::numeric_limits<double>::quiet_NaN()
               : icn_from_gram(ch.gram(), ch.num_uavs());
   r.objective = ch.objective();
-  r.placement_dist_m = swarm.placement_distance_m().mean();
-  r.probe_dist_m = swarm.probe_distance_m().mean();
+  r.placement_dist_m = placement_distances(swarm, options).mean();
+  r.probe_dist_m = probe_distances(swarm, options).mean();
   if (options.trace_sinr) {
     const StreamSinr sinr = stream_sinr(ch.H(), options.noise_variance);
     r.sinr_nv_db = to_db(sinr.nv(0));
@@ -181,12 +206,20 @@ IterationRecord record(const Swarm& swarm, int iteration, const RunOptions& opti
   return r;
 }
 
-void update_milestone(Milestone& m, const IterationRecord& r, double threshold) {
+void update_milestone(Milestone& m, const IterationRecord& r, double threshold, bool with_probes) {
   if (!m.reached && r.icn >= threshold) {
     m.reached = true;
     m.iteration = r.iteration;
-    m.placement_dist_m = r.placement_dist_m;
+    m.placement_dist_m = with_probes ? r.placement_dist_m + r.probe_dist_m : r.placement_dist_m;
   }
+}
+
+// The ICN the planner's belief would give, or nullopt without a belief.
+std::optional<double> believed_icn(const Planner& planner, const Swarm& swarm) {
+  const std::optional<Eigen::Matrix3Xd> believed = planner.believed_positions();
+  if (!believed) return std::nullopt;
+  const Eigen::MatrixXcd H = swarm.channel().model().matrix(*believed);
+  return icn_from_gram(H.adjoint() * H, static_cast<int>(H.rows()));
 }
 
 }  // namespace
@@ -207,8 +240,12 @@ RunResult run_placement(Planner& planner, Swarm& swarm, const RunOptions& option
     result.trace.push_back(record(swarm, iteration, options, options.full_icn_trace ? 0.0 : pending,
                                   icn_warm_start));
     const IterationRecord& r = result.trace.back();
-    update_milestone(result.icn050, r, 0.5);
-    update_milestone(result.icn095, r, 0.95);
+    update_milestone(result.icn050, r, 0.5, options.milestone_distance_includes_probes);
+    update_milestone(result.icn095, r, 0.95, options.milestone_distance_includes_probes);
+    if (options.record_path) result.path.push_back(swarm.true_positions_m());
+    if (options.stop_on == StopOn::kBelief) {
+      if (const std::optional<double> icn = believed_icn(planner, swarm)) return *icn >= options.target_icn;
+    }
     return r.icn >= options.target_icn;
   };
 
@@ -244,8 +281,8 @@ RunResult run_placement(Planner& planner, Swarm& swarm, const RunOptions& option
   }
   result.iterations = iteration;
   result.final_m = swarm.true_positions_m();
-  result.placement_dist_m = swarm.placement_distance_m();
-  result.probe_dist_m = swarm.probe_distance_m();
+  result.placement_dist_m = placement_distances(swarm, options);
+  result.probe_dist_m = probe_distances(swarm, options);
   return result;
 }
 

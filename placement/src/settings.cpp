@@ -37,11 +37,26 @@ std::vector<common::Key<Scenario>> scenario_keys() {
   };
 }
 
+// A key whose value is one of an enum's names (to_string / from_string).
+template <typename S, typename Field, typename From>
+common::Key<S> choice(const std::string& section, const std::string& key, Field S::*field, From from_string,
+                      const std::string& rule, const std::string& doc, const std::string& example) {
+  return common::Key<S>::text(
+             section, key, [field, from_string](S& s, const std::string& text, const std::string&) { s.*field = from_string(text); },
+             [field](const S& s) { return to_string(s.*field); }, rule, doc, example)
+      .unless_default();
+}
+
 std::vector<common::Key<ErrorModel>> error_keys() {
   using K = common::Key<ErrorModel>;
   return {
       K::real("errors", "sigma_loc_m", &ErrorModel::sigma_loc_m, error_range::sigma_loc_m, "localization error 1-sigma per axis [m]", "0.1"),
       K::real("errors", "sigma_act_m", &ErrorModel::sigma_act_m, error_range::sigma_act_m, "actuation error 1-sigma per axis [m]", "0.1"),
+      choice("errors", "sigma_convention", &ErrorModel::sigma_convention, &sigma_convention_from_string,
+             "per_axis | rms_3d",
+             "the sigmas per axis, or the RMS length of the 3-D error (sigma / sqrt(3) per axis)", "rms_3d"),
+      choice("errors", "loc_error", &ErrorModel::loc_error, &loc_error_from_string, "fresh | fixed_per_uav",
+             "localization error drawn at every estimate, or once per UAV and run (a bias)", "fixed_per_uav"),
   };
 }
 
@@ -53,6 +68,26 @@ std::vector<common::Key<RunOptions>> run_keys() {
                  // At least one: 0 only evaluates the start (a report's "iterations to ICN 0.95: 0").
                  common::Range::closed(1, run_range::max_iterations.hi),
                  "the run stops after this many iterations", "50"),
+      choice("placement", "stop_on", &RunOptions::stop_on, &stop_on_from_string, "csi | belief",
+             "the stop test's ICN: of the measured channel, or of the planner's believed positions", "belief"),
+      choice("placement", "distance", &RunOptions::distance, &distance_kind_from_string, "true_path | commanded",
+             "distances count the true path flown or the commanded moves", "commanded"),
+      K::boolean("placement", "milestone_distance_includes_probes", &RunOptions::milestone_distance_includes_probes,
+                 "the distance to ICN 0.5 / 0.95 counts BF's probe flights too", "true")
+          .unless_default(),
+  };
+}
+
+// The per-algorithm stop rules, one pair of keys per algorithm section.
+std::vector<common::Key<RunOverride>> run_override_keys(const std::string& section) {
+  using K = common::Key<RunOverride>;
+  return {
+      K::real(section, "target_icn", &RunOverride::target_icn, common::Range::closed(0.0, 1.0),
+              "this algorithm's runs stop at this ICN; 0: [placement] target_icn", "1")
+          .unless_default(),
+      K::integer(section, "max_iterations", &RunOverride::max_iterations, -1, 10'000'000,
+                 "this algorithm's runs stop after this many iterations; -1: [placement] max_iterations", "2000")
+          .unless_default(),
   };
 }
 
@@ -91,6 +126,22 @@ std::vector<common::Key<BfOptions>> bf_keys() {
       K::integer("bf", "stall_window", &BfOptions::stall_window, bf_range::stall_window, "stall window [iterations]", "10"),
       K::real("bf", "stall_min_decrease", &BfOptions::stall_min_decrease, bf_range::stall_min_decrease,
               "stalled below this relative decrease of f over the window", "0.02"),
+      choice("bf", "probe_actuation", &BfOptions::probe_actuation, &probe_actuation_from_string,
+             "every_leg | kept_move_only",
+             "actuation error on every probe flight, or on the kept move only (probes exact)", "kept_move_only"),
+  };
+}
+
+std::vector<common::Key<UraOptions>> ura_keys() {
+  using K = common::Key<UraOptions>;
+  return {
+      K::integer("ura", "spacing_multiple", &UraOptions::spacing_multiple, 1, 64,
+                 "URA spacing in units of lambda x / (n d_t); coprime with the BS rows and columns", "3")
+          .unless_default(),
+      choice("ura", "depth", &UraOptions::depth, &ura_depth_from_string, "plane | own",
+             "rigid URA slots at the cube centre's depth, or at the assigned UAV's own depth", "own"),
+      choice("ura", "retry", &UraOptions::retry, &ura_retry_from_string, "every_iteration | once | average",
+             "URA moves: re-aimed at every iteration, commanded once, or from the mean of the estimates", "once"),
   };
 }
 
@@ -109,7 +160,11 @@ const common::KeyTable<PlacementSettings>& placement_keys() {
     append(keys, error_keys(), &PlacementSettings::errors, "errors");
     append(keys, run_keys(), &PlacementSettings::run, "run");
     append(keys, gd_keys(), &PlacementSettings::gd, "gd");
+    append(keys, run_override_keys("gd"), &PlacementSettings::gd_run, "gd_run");
     append(keys, bf_keys(), &PlacementSettings::bf, "bf");
+    append(keys, run_override_keys("bf"), &PlacementSettings::bf_run, "bf_run");
+    append(keys, ura_keys(), &PlacementSettings::ura, "ura");
+    append(keys, run_override_keys("ura"), &PlacementSettings::ura_run, "ura_run");
     return common::KeyTable<PlacementSettings>(std::move(keys));
   }();
   return table;
@@ -127,7 +182,14 @@ PlacementSettings load_placement_settings(const common::IniConfig& cfg) {
   keys.check(cfg, "run", [&] { validate(s.run); });
   keys.check(cfg, "gd", [&] { validate(s.gd); });
   keys.check(cfg, "bf", [&] { validate(s.bf); });
+  keys.check(cfg, "ura", [&] { validate(s.ura, s.scenario); });
   return s;
+}
+
+RunOptions with_override(RunOptions run, const RunOverride& o) {
+  if (o.target_icn > 0.0) run.target_icn = o.target_icn;
+  if (o.max_iterations >= 0) run.max_iterations = o.max_iterations;
+  return run;
 }
 
 std::string to_ini(const PlacementSettings& settings) { return placement_keys().to_ini(settings); }

@@ -5,13 +5,37 @@
 #include <stdexcept>
 #include <string>
 
+#include "losmimo/common/field_error.h"
 #include "losmimo/common/range.h"
+#include "losmimo/common/seed.h"
 
 namespace losmimo::placement {
 
 void validate(const ErrorModel& errors) {
   common::require_field_in(error_range::sigma_loc_m, errors.sigma_loc_m, "errors", "sigma_loc_m");
   common::require_field_in(error_range::sigma_act_m, errors.sigma_act_m, "errors", "sigma_act_m");
+}
+
+std::string to_string(SigmaConvention convention) {
+  return convention == SigmaConvention::kRms3d ? "rms_3d" : "per_axis";
+}
+
+SigmaConvention sigma_convention_from_string(const std::string& name) {
+  if (name == "per_axis") return SigmaConvention::kPerAxis;
+  if (name == "rms_3d") return SigmaConvention::kRms3d;
+  throw std::invalid_argument("unknown sigma convention '" + name + "' (known: per_axis, rms_3d)");
+}
+
+std::string to_string(LocError kind) { return kind == LocError::kFixedPerUav ? "fixed_per_uav" : "fresh"; }
+
+LocError loc_error_from_string(const std::string& name) {
+  if (name == "fresh") return LocError::kFresh;
+  if (name == "fixed_per_uav") return LocError::kFixedPerUav;
+  throw std::invalid_argument("unknown localization error kind '" + name + "' (known: fresh, fixed_per_uav)");
+}
+
+double ErrorModel::axis_sigma(double sigma_m) const {
+  return sigma_convention == SigmaConvention::kRms3d ? sigma_m / std::sqrt(3.0) : sigma_m;
 }
 
 Swarm::Swarm(const ChannelModel& model, const Eigen::Matrix3Xd& start_m, const ErrorModel& errors,
@@ -21,8 +45,22 @@ Swarm::Swarm(const ChannelModel& model, const Eigen::Matrix3Xd& start_m, const E
       errors_(errors),
       rng_(seed),
       placement_dist_m_(Eigen::VectorXd::Zero(start_m.cols())),
-      probe_dist_m_(Eigen::VectorXd::Zero(start_m.cols())) {
+      probe_dist_m_(Eigen::VectorXd::Zero(start_m.cols())),
+      commanded_placement_dist_m_(Eigen::VectorXd::Zero(start_m.cols())),
+      commanded_probe_dist_m_(Eigen::VectorXd::Zero(start_m.cols())) {
   validate(errors);
+  axis_sigma_loc_m_ = errors.axis_sigma_loc_m();
+  axis_sigma_act_m_ = errors.axis_sigma_act_m();
+  if (errors.loc_error == LocError::kFixedPerUav) {
+    // Its own generator and distribution (normal_ caches a draw): rng_ then draws only the
+    // actuation errors.
+    std::mt19937_64 bias_rng(common::derive_seed(seed, {1}));
+    std::normal_distribution<double> normal(0.0, 1.0);
+    loc_bias_m_.resize(3, start_m.cols());
+    for (Eigen::Index m = 0; m < start_m.cols(); ++m) {
+      for (int i = 0; i < 3; ++i) loc_bias_m_(i, m) = normal(bias_rng) * axis_sigma_loc_m_;
+    }
+  }
 }
 
 Eigen::Vector3d Swarm::gaussian(double sigma) {
@@ -32,7 +70,14 @@ Eigen::Vector3d Swarm::gaussian(double sigma) {
 
 Eigen::Vector3d Swarm::estimate_position(int m) {
   if (estimator_) return estimator_(m, q_m_.col(m));
-  return q_m_.col(m) + gaussian(errors_.sigma_loc_m);
+  if (loc_bias_m_.size() > 0) return q_m_.col(m) + loc_bias_m_.col(m);
+  return q_m_.col(m) + gaussian(axis_sigma_loc_m_);
+}
+
+void Swarm::count_exact_probe(int m, const Eigen::Vector3d& r_m) {
+  const double length = 2.0 * r_m.norm();
+  probe_dist_m_(m) += length;
+  commanded_probe_dist_m_(m) += length;
 }
 
 namespace {
@@ -44,7 +89,7 @@ std::string format_vector(const Eigen::Vector3d& v) {
 }  // namespace
 
 Eigen::Vector3d Swarm::move(int m, const Eigen::Vector3d& r_m, MotionKind kind, bool update_channel) {
-  const Eigen::Vector3d actual = r_m + gaussian(errors_.sigma_act_m);
+  const Eigen::Vector3d actual = r_m + gaussian(axis_sigma_act_m_);
   if (!r_m.allFinite() || !(q_m_.col(m) + actual).allFinite()) {
     if (!fault_) {
       const std::string what = !r_m.allFinite()
@@ -58,6 +103,7 @@ Eigen::Vector3d Swarm::move(int m, const Eigen::Vector3d& r_m, MotionKind kind, 
   q_m_.col(m) += actual;
   if (update_channel) channel_.set_position(m, q_m_.col(m));
   (kind == MotionKind::kProbe ? probe_dist_m_ : placement_dist_m_)(m) += actual.norm();
+  (kind == MotionKind::kProbe ? commanded_probe_dist_m_ : commanded_placement_dist_m_)(m) += r_m.norm();
   return actual;
 }
 

@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "losmimo/common/field_error.h"
 #include "losmimo/placement/assignment.h"
 
 namespace losmimo::placement {
@@ -12,22 +13,70 @@ namespace losmimo::placement {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 
-// Lateral offsets of slot s (y, z) per metre of depth: the URA's angular layout.
-Eigen::Vector2d slot_angle_rad(const Scenario& s, int slot) {
+// Lateral offsets of slot s (y, z) per metre of depth: the URA's angular layout (spacing
+// multiple k).
+Eigen::Vector2d slot_angle_rad(const Scenario& s, int slot, int k) {
   const double lambda = s.wavelength_m();
   const int r = slot / s.bs_cols;
   const int c = slot % s.bs_cols;
-  const double dy = lambda / (s.bs_cols * s.bs_spacing_m);  // d_r / depth
-  const double dz = lambda / (s.bs_rows * s.bs_spacing_m);
+  double dy = lambda / (s.bs_cols * s.bs_spacing_m);  // d_r / depth
+  double dz = lambda / (s.bs_rows * s.bs_spacing_m);
+  if (k != 1) {
+    dy *= k;
+    dz *= k;
+  }
   return {(c - 0.5 * (s.bs_cols - 1)) * dy, (r - 0.5 * (s.bs_rows - 1)) * dz};
 }
+
+int gcd(int a, int b) { return b == 0 ? a : gcd(b, a % b); }
 }  // namespace
 
-Eigen::Matrix3Xd optimal_ura_positions_m(const Scenario& s) {
+std::string to_string(UraDepth depth) { return depth == UraDepth::kOwn ? "own" : "plane"; }
+
+std::string to_string(UraRetry retry) {
+  switch (retry) {
+    case UraRetry::kEveryIteration: return "every_iteration";
+    case UraRetry::kOnce: return "once";
+    case UraRetry::kAverage: return "average";
+  }
+  return "every_iteration";
+}
+
+UraDepth ura_depth_from_string(const std::string& name) {
+  if (name == "plane") return UraDepth::kPlane;
+  if (name == "own") return UraDepth::kOwn;
+  throw std::invalid_argument("unknown URA depth '" + name + "' (known: plane, own)");
+}
+
+UraRetry ura_retry_from_string(const std::string& name) {
+  if (name == "every_iteration") return UraRetry::kEveryIteration;
+  if (name == "once") return UraRetry::kOnce;
+  if (name == "average") return UraRetry::kAverage;
+  throw std::invalid_argument("unknown URA retry rule '" + name + "' (known: every_iteration, once, average)");
+}
+
+void validate(const UraOptions& o) {
+  if (o.spacing_multiple < 1 || o.spacing_multiple > 64) {
+    throw common::FieldError("spacing_multiple", "ura.spacing_multiple = " + std::to_string(o.spacing_multiple) +
+                                                     ": must be in [1, 64]");
+  }
+}
+
+void validate(const UraOptions& o, const Scenario& s) {
+  validate(o);
+  if (gcd(o.spacing_multiple, s.bs_rows) != 1 || gcd(o.spacing_multiple, s.bs_cols) != 1) {
+    throw common::FieldError("spacing_multiple", "ura.spacing_multiple = " + std::to_string(o.spacing_multiple) +
+                                                     ": must be coprime with the BS array's " +
+                                                     std::to_string(s.bs_rows) + " rows and " +
+                                                     std::to_string(s.bs_cols) + " columns");
+  }
+}
+
+Eigen::Matrix3Xd optimal_ura_positions_m(const Scenario& s, int spacing_multiple) {
   const Eigen::Vector3d& c = s.cube_center_m;
   Eigen::Matrix3Xd q(3, s.num_bs_antennas());
   for (int slot = 0; slot < s.num_bs_antennas(); ++slot) {
-    const Eigen::Vector2d a = slot_angle_rad(s, slot);
+    const Eigen::Vector2d a = slot_angle_rad(s, slot, spacing_multiple);
     q.col(slot) << c.x(), c.y() + a.x() * c.x(), c.z() + a.y() * c.x();
   }
   return q;
@@ -42,8 +91,9 @@ double lattice_depth_band_m(const Scenario& s) {
   return kLatticeFresnelTolerance_rad * s.wavelength_m() * range * range / (kPi * rho_max_sq);
 }
 
-UraPlanner::UraPlanner(const Scenario& scenario, UraVariant variant)
-    : scenario_(scenario), variant_(variant) {
+UraPlanner::UraPlanner(const Scenario& scenario, UraVariant variant, const UraOptions& options)
+    : scenario_(scenario), variant_(variant), options_(options) {
+  validate(options_, scenario);
   if (scenario.num_uavs != scenario.num_bs_antennas()) {
     throw std::invalid_argument("ura: scenario.num_uavs = " + std::to_string(scenario.num_uavs) +
                                 " must equal bs_rows * bs_cols = " +
@@ -64,7 +114,7 @@ Eigen::Vector3d UraPlanner::nearest_lattice_point_m(int slot, const Eigen::Vecto
   const Scenario& s = scenario_;
   if (variant_ == UraVariant::kLatticeExact) return nearest_exact_lattice_point_m(slot, q_m);
   const double depth = q_m.x();
-  const Eigen::Vector2d a = slot_angle_rad(s, slot);
+  const Eigen::Vector2d a = slot_angle_rad(s, slot, options_.spacing_multiple);
   // The centre keeps its angle from the BS, so a common lateral shift stays column-common.
   const double y0 = depth * (s.cube_center_m.y() / s.cube_center_m.x() + a.x());
   const double z0 = depth * (s.cube_center_m.z() / s.cube_center_m.x() + a.y());
@@ -81,7 +131,7 @@ Eigen::Vector3d UraPlanner::nearest_exact_lattice_point_m(int slot, const Eigen:
   const double depth = std::clamp(q_m.x(), c.x() - band, c.x() + band);
   // Direction cosines (u, v) = (y, z) / |q|: the slot's, shifted by whole periods lambda / d_t
   // to the nearest of the UAV's own.
-  const Eigen::Vector2d a = slot_angle_rad(s, slot);
+  const Eigen::Vector2d a = slot_angle_rad(s, slot, options_.spacing_multiple);
   const double u0 = c.y() / c.norm() + a.x();
   const double v0 = c.z() / c.norm() + a.y();
   const double period = s.wavelength_m() / s.bs_spacing_m;
@@ -95,26 +145,54 @@ void UraPlanner::start(Swarm& swarm) {
   const int n = swarm.num_uavs();
   Eigen::Matrix3Xd q_hat(3, n);
   for (int m = 0; m < n; ++m) q_hat.col(m) = swarm.estimate_position(m);
-  const Eigen::Matrix3Xd rigid = optimal_ura_positions_m(scenario_);
+  const Eigen::Matrix3Xd rigid = optimal_ura_positions_m(scenario_, options_.spacing_multiple);
+  const bool own_depth = variant_ == UraVariant::kRigid && options_.depth == UraDepth::kOwn;
+  // The rigid slot at the UAV's own depth: the same direction from the BS as the slot at R.
+  const auto at_own_depth = [&](int slot, const Eigen::Vector3d& q) {
+    const double scale = q.x() / scenario_.cube_center_m.x();
+    return Eigen::Vector3d(q.x(), rigid(1, slot) * scale, rigid(2, slot) * scale);
+  };
+  const auto target_of = [&](int m, int slot) -> Eigen::Vector3d {
+    if (variant_ != UraVariant::kRigid) return nearest_lattice_point_m(slot, q_hat.col(m));
+    if (own_depth) return at_own_depth(slot, q_hat.col(m));
+    return rigid.col(slot);
+  };
   Eigen::MatrixXd cost(n, n);
   for (int m = 0; m < n; ++m) {
-    for (int slot = 0; slot < n; ++slot) {
-      const Eigen::Vector3d target = variant_ == UraVariant::kRigid
-                                         ? Eigen::Vector3d(rigid.col(slot))
-                                         : nearest_lattice_point_m(slot, q_hat.col(m));
-      cost(m, slot) = (target - q_hat.col(m)).norm();
-    }
+    for (int slot = 0; slot < n; ++slot) cost(m, slot) = (target_of(m, slot) - q_hat.col(m)).norm();
   }
   const std::vector<int> slot_of = min_cost_assignment(cost);
   targets_m_.resize(3, n);
-  for (int m = 0; m < n; ++m) {
-    targets_m_.col(m) = variant_ == UraVariant::kRigid
-                            ? Eigen::Vector3d(rigid.col(slot_of[m]))
-                            : nearest_lattice_point_m(slot_of[m], q_hat.col(m));
+  for (int m = 0; m < n; ++m) targets_m_.col(m) = target_of(m, slot_of[m]);
+  commanded_ = false;
+  if (options_.retry == UraRetry::kAverage) {
+    start_sum_m_ = Eigen::Matrix3Xd::Zero(3, n);
+    commanded_sum_m_ = Eigen::Matrix3Xd::Zero(3, n);
+    estimates_ = 0;
   }
 }
 
-void UraPlanner::iterate(Swarm& swarm, int /*iteration*/) {
+std::optional<Eigen::Matrix3Xd> UraPlanner::believed_positions() const {
+  if (!commanded_) return std::nullopt;
+  return targets_m_;
+}
+
+void UraPlanner::iterate(Swarm& swarm, int iteration) {
+  if (options_.retry == UraRetry::kOnce && iteration > 1) return;
+  commanded_ = true;
+  if (options_.retry == UraRetry::kAverage) {
+    // The start is estimated once per iteration (estimate - moves commanded so far); the
+    // running mean of those estimates, plus the moves, is where the UAV believes it is.
+    ++estimates_;
+    for (int m = 0; m < swarm.num_uavs(); ++m) {
+      start_sum_m_.col(m) += swarm.estimate_position(m) - commanded_sum_m_.col(m);
+      const Eigen::Vector3d q_hat = start_sum_m_.col(m) / estimates_ + commanded_sum_m_.col(m);
+      const Eigen::Vector3d r = targets_m_.col(m) - q_hat;
+      swarm.move(m, r, MotionKind::kPlacement);
+      commanded_sum_m_.col(m) += r;
+    }
+    return;
+  }
   for (int m = 0; m < swarm.num_uavs(); ++m) {
     const Eigen::Vector3d q_hat = swarm.estimate_position(m);
     swarm.move(m, targets_m_.col(m) - q_hat, MotionKind::kPlacement);

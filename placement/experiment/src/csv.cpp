@@ -59,6 +59,7 @@ void write_positions_rows(std::ostream& out, const std::vector<TrialRecord>& rec
 void write_traces_csv(std::ostream& out, const std::vector<TracedRun>& traces) {
   out << "algorithm,trial,iteration,icn,objective,sinr_nv_db,sinr_zf_db,sinr_mf_db,placement_dist_m,probe_dist_m\n";
   for (const TracedRun& t : traces) {
+    if (!t.fig1()) continue;  // the path figure's runs under error: paths.csv only
     for (const placement::IterationRecord& r : t.result.trace) {
       out << to_string(t.algorithm) << "," << t.trial << "," << r.iteration << "," << fmt(r.icn) << ","
           << fmt(r.objective) << "," << fmt(r.sinr_nv_db) << "," << fmt(r.sinr_zf_db) << ","

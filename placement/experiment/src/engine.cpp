@@ -55,7 +55,7 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
                                 std::to_string(slice.shard_count) + " is not in 0..N-1");
   }
   const std::vector<PointTask> points = point_tasks(s, extensions);
-  const std::size_t num_extra = extra_metric_names(s, extensions).size();
+  const std::size_t num_extension_extra = extension_metric_names(s, extensions).size();
   const int trials = s.trials;
   const int num_threads = std::max(1, threads);
 
@@ -86,7 +86,14 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
       try {
         slots[job] = task.extension ? task.extension->run(s, task.point, job % trials)
                                     : run_trial(s, task.sweep->name, task.point, job % trials);
-        for (TrialRecord& r : slots[job]) r.extra.resize(num_extra, std::nan(""));
+        for (TrialRecord& r : slots[job]) {
+          r.extra.resize(num_extension_extra, std::nan(""));
+          if (s.milestone_columns) {
+            const auto iteration = [](int i) { return i >= 0 ? static_cast<double>(i) : std::nan(""); };
+            r.extra.push_back(iteration(r.icn050_iteration));
+            r.extra.push_back(iteration(r.icn095_iteration));
+          }
+        }
       } catch (...) {
         const std::lock_guard<std::mutex> lock(mutex);
         if (!failure) failure = std::current_exception();
@@ -135,7 +142,15 @@ std::vector<TracedRun> traced_runs(const ExperimentSettings& s) {
   const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
   for (const Algorithm a : s.algorithms) {
     if (!builtin || (a != Algorithm::kGd && a != Algorithm::kBf)) continue;
-    for (int t = 0; t < s.fig1_trials; ++t) traces.push_back({a, t, run_traced(s, a, t)});
+    for (int t = 0; t < s.fig1_trials; ++t) traces.push_back({a, t, run_traced(s, a, t, s.paths && t == 0)});
+  }
+  // The path figure's runs under the largest actuation error, from trial 0's start.
+  const SweepPoints* act = s.sweep(kSweepSigmaAct);
+  if (s.paths && s.fig1_trials > 0 && act) {
+    const double sigma = *std::max_element(act->values.begin(), act->values.end());
+    for (const Algorithm a : s.algorithms) {
+      if (sigma > 0.0 && (a == Algorithm::kGd || a == Algorithm::kBf)) traces.push_back({a, 0, run_path(s, a, 0, sigma), sigma});
+    }
   }
   return traces;
 }

@@ -1,33 +1,23 @@
 #include "losmimo/common/atomic_file.h"
 #include "losmimo/common/format.h"
 #include "losmimo/common/gnuplot.h"
+#include "losmimo/experiment/paths.h"
+#include "losmimo/experiment/readings.h"
 #include "losmimo/experiment/report.h"
+#include "losmimo/placement/ura.h"
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <algorithm>
 #include <filesystem>
 #include <sstream>
+#include <thread>
 
 namespace losmimo::experiment {
 
 namespace {
 namespace fs = std::filesystem;
-
-const char* const kWhyDistance =
-    "the paper states neither how it counts distance nor its GD normalisation; here GD steps on "
-    "f / Nr with a 0.5 m cap, BF contracts its step and escapes stalls, and distance is the true "
-    "path flown (docs/model.md, 'Differences from the paper')";
-const char* const kWhyUra =
-    "the paper's URA assignment and array placement are not fully specified; ours is centred on "
-    "the cube with a minimum-total-distance assignment, and retries toward targets every "
-    "iteration under fresh localization error";
-const char* const kWhySinr =
-    "final SINR depends on where each run stops (ICN 0.95 or the iteration cap) and on the step "
-    "rules above; the paper's curves are single-seed-set averages read off a plot (~0.5 dB)";
-const char* const kWhyIterations =
-    "the paper shows one run; the mean over trials and the robustness changes (stall escape, "
-    "BF contraction) shift the count";
 
 std::string fmt(double v, int precision = 3) { return common::format_fixed(v, precision); }
 
@@ -91,33 +81,33 @@ std::vector<PaperValue> paper_values() {
   const std::string L = kSweepSigmaLoc;
   const std::string T = kSweepSigmaAct;
   return {
-      {"Sec 4", "random start NV SINR [dB]", L, 0.0, R, "sinr_nv_db", 0.3, 0.5, kWhySinr},
-      {"Sec 4", "random start ZF SINR [dB]", L, 0.0, R, "sinr_zf_db", -5.5, 0.5, kWhySinr},
-      {"Sec 4", "MF SINR [dB]", L, 0.0, R, "sinr_mf_db", 22.0, 0.5, kWhySinr},
-      {"Fig 1", "GD iterations to ICN 0.95", L, 0.0, GD, "iterations", 78, 5, kWhyIterations},
-      {"Fig 1", "BF iterations to ICN 0.95", L, 0.0, BF, "iterations", 63, 5, kWhyIterations},
-      {"Fig 2a", "GD distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, GD, "dist_to_icn050_m", 5.0, 0.5, kWhyDistance},
-      {"Fig 2a", "GD distance to ICN 0.5 [m], sigma_loc 0.18", L, 0.18, GD, "dist_to_icn050_m", 7.5, 0.5, kWhyDistance},
-      {"Fig 2a", "GD distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, GD, "dist_to_icn095_m", 15.3, 0.5, kWhyDistance},
-      {"Fig 2a", "GD distance to ICN 0.95 [m], sigma_loc 0.18", L, 0.18, GD, "dist_to_icn095_m", 19.5, 0.5, kWhyDistance},
-      {"Fig 2a", "BF distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, BF, "dist_to_icn050_m", 8.3, 0.5, kWhyDistance},
-      {"Fig 2a", "BF distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, BF, "dist_to_icn095_m", 20.2, 0.5, kWhyDistance},
-      {"Fig 2a", "URA distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, URA, "dist_to_icn050_m", 10.3, 0.5, kWhyUra},
-      {"Fig 2a", "URA distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, URA, "dist_to_icn095_m", 10.3, 0.5, kWhyUra},
-      {"Fig 2a", "URA distance to ICN 0.95 [m], sigma_loc 0.18", L, 0.18, URA, "dist_to_icn095_m", 30.0, 0.5, kWhyUra},
-      {"Fig 2b", "BF final NV SINR [dB], sigma_loc 0.18", L, 0.18, BF, "sinr_nv_db", 22.0, 0.5, kWhySinr},
-      {"Fig 2b", "GD final NV SINR [dB], sigma_loc 0", L, 0.0, GD, "sinr_nv_db", 20.5, 0.5, kWhySinr},
-      {"Fig 2b", "GD final NV SINR [dB], sigma_loc 0.18", L, 0.18, GD, "sinr_nv_db", 16.5, 0.5, kWhySinr},
-      {"Fig 2b", "GD final ZF SINR [dB], sigma_loc 0.18", L, 0.18, GD, "sinr_zf_db", 19.0, 0.5, kWhySinr},
-      {"Fig 2b", "URA final NV SINR [dB], sigma_loc 0", L, 0.0, URA, "sinr_nv_db", 22.0, 0.5, kWhyUra},
-      {"Fig 2b", "URA final NV SINR [dB], sigma_loc 0.18", L, 0.18, URA, "sinr_nv_db", 15.5, 0.5, kWhyUra},
-      {"Fig 2b", "URA final ZF SINR [dB], sigma_loc 0.18", L, 0.18, URA, "sinr_zf_db", 22.0, 0.5, kWhyUra},
-      {"Fig 3", "GD final NV SINR [dB], sigma_act 0.18", T, 0.18, GD, "sinr_nv_db", 15.5, 0.5, kWhySinr},
-      {"Fig 3", "GD final ZF SINR [dB], sigma_act 0.18", T, 0.18, GD, "sinr_zf_db", 21.0, 0.5, kWhySinr},
-      {"Fig 3", "BF final NV SINR [dB], sigma_act 0", T, 0.0, BF, "sinr_nv_db", 22.0, 0.5, kWhySinr},
-      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.02", T, 0.02, BF, "sinr_nv_db", 12.3, 0.5, kWhySinr},
-      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.04", T, 0.04, BF, "sinr_nv_db", 3.0, 0.5, kWhySinr},
-      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.06", T, 0.06, BF, "sinr_nv_db", 1.5, 0.5, kWhySinr},
+      {"Sec 4", "random start NV SINR [dB]", L, 0.0, R, "sinr_nv_db", 0.3, 0.5},
+      {"Sec 4", "random start ZF SINR [dB]", L, 0.0, R, "sinr_zf_db", -5.5, 0.5},
+      {"Sec 4", "MF SINR [dB]", L, 0.0, R, "sinr_mf_db", 22.0, 0.5},
+      {"Fig 1", "GD iterations to ICN 0.95", L, 0.0, GD, kIterationsToIcn095, 78, 5},
+      {"Fig 1", "BF iterations to ICN 0.95", L, 0.0, BF, kIterationsToIcn095, 63, 5},
+      {"Fig 2a", "GD distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, GD, "dist_to_icn050_m", 5.0, 0.5},
+      {"Fig 2a", "GD distance to ICN 0.5 [m], sigma_loc 0.18", L, 0.18, GD, "dist_to_icn050_m", 7.5, 0.5},
+      {"Fig 2a", "GD distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, GD, "dist_to_icn095_m", 15.3, 0.5},
+      {"Fig 2a", "GD distance to ICN 0.95 [m], sigma_loc 0.18", L, 0.18, GD, "dist_to_icn095_m", 19.5, 0.5},
+      {"Fig 2a", "BF distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, BF, "dist_to_icn050_m", 8.3, 0.5},
+      {"Fig 2a", "BF distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, BF, "dist_to_icn095_m", 20.2, 0.5},
+      {"Fig 2a", "URA distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, URA, "dist_to_icn050_m", 10.3, 0.5},
+      {"Fig 2a", "URA distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, URA, "dist_to_icn095_m", 10.3, 0.5},
+      {"Fig 2a", "URA distance to ICN 0.95 [m], sigma_loc 0.18", L, 0.18, URA, "dist_to_icn095_m", 30.0, 0.5},
+      {"Fig 2b", "BF final NV SINR [dB], sigma_loc 0.18", L, 0.18, BF, "sinr_nv_db", 22.0, 0.5},
+      {"Fig 2b", "GD final NV SINR [dB], sigma_loc 0", L, 0.0, GD, "sinr_nv_db", 20.5, 0.5},
+      {"Fig 2b", "GD final NV SINR [dB], sigma_loc 0.18", L, 0.18, GD, "sinr_nv_db", 16.5, 0.5},
+      {"Fig 2b", "GD final ZF SINR [dB], sigma_loc 0.18", L, 0.18, GD, "sinr_zf_db", 19.0, 0.5},
+      {"Fig 2b", "URA final NV SINR [dB], sigma_loc 0", L, 0.0, URA, "sinr_nv_db", 22.0, 0.5},
+      {"Fig 2b", "URA final NV SINR [dB], sigma_loc 0.18", L, 0.18, URA, "sinr_nv_db", 15.5, 0.5},
+      {"Fig 2b", "URA final ZF SINR [dB], sigma_loc 0.18", L, 0.18, URA, "sinr_zf_db", 22.0, 0.5},
+      {"Fig 3", "GD final NV SINR [dB], sigma_act 0.18", T, 0.18, GD, "sinr_nv_db", 15.5, 0.5},
+      {"Fig 3", "GD final ZF SINR [dB], sigma_act 0.18", T, 0.18, GD, "sinr_zf_db", 21.0, 0.5},
+      {"Fig 3", "BF final NV SINR [dB], sigma_act 0", T, 0.0, BF, "sinr_nv_db", 22.0, 0.5},
+      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.02", T, 0.02, BF, "sinr_nv_db", 12.3, 0.5},
+      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.04", T, 0.04, BF, "sinr_nv_db", 3.0, 0.5},
+      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.06", T, 0.06, BF, "sinr_nv_db", 1.5, 0.5},
   };
 }
 
@@ -160,7 +150,7 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
     std::ostringstream dat;
     std::vector<Algorithm> traced;
     for (const TracedRun& t : results.traces) {
-      if (t.trial != 0) continue;
+      if (t.trial != 0 || !t.fig1()) continue;
       traced.push_back(t.algorithm);
       dat << "# " << to_string(t.algorithm) << ": iteration icn sinr_nv_db sinr_zf_db sinr_mf_db\n";
       for (const placement::IterationRecord& r : t.result.trace) {
@@ -187,6 +177,9 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
     common::write_file_atomically((dir / "fig1a.gp").string(), a.str() + "\n");
     common::write_file_atomically((dir / "fig1b.gp").string(), b.str() + "\n");
   }
+
+  // The UAVs' paths.
+  const std::string paths_stem = s.paths ? write_path_figure(s, results.traces, out_dir) : "";
 
   // Fig 2a: distances against sigma_loc.
   if (s.sweep(kSweepSigmaLoc)) {
@@ -232,6 +225,7 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
     common::write_file_atomically((dir / (stem + ".gp")).string(), g.str() + "\n");
   }
 
+  if (!paths_stem.empty()) stems.push_back(paths_stem);
   if (s.plots) {
     for (std::string& w : common::render_gnuplot(
              dir.string(), stems,
@@ -261,29 +255,43 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
   }
   std::vector<std::string> differences;
   const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
-  if (builtin) md << "| figure | quantity | paper | measured | 95% CI | n | agrees |\n|---|---|---|---|---|---|---|\n";
+  // The readings' paired runs (none unless [experiment] readings): the Why lines' measurements.
+  const ReadingResults readings =
+      builtin ? measure_readings(s, extensions,
+                                 s.threads > 0 ? s.threads
+                                               : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())))
+              : ReadingResults{};
+  if (!readings.empty()) {
+    common::write_stream_atomically((dir / "readings.csv").string(),
+                                    [&](std::ostream& o) { write_readings_csv(o, readings); });
+  }
+  if (builtin) md << "| # | figure | quantity | paper | measured | 95% CI | n | agrees |\n|---|---|---|---|---|---|---|---|\n";
+  int number = 0;
   for (const PaperValue& p : builtin ? paper_values() : std::vector<PaperValue>{}) {
+    ++number;
     if (!s.sweep(p.sweep)) continue;
     const SummaryRow* row = find_row(rows, p.sweep, p.value, p.algorithm);
     const Estimate* e = row ? row->metric(p.metric) : nullptr;
+    // Without milestone columns, Fig 1's counts are the runs' iterations (equal when they stop at 0.95).
+    if (row && !e && p.metric == kIterationsToIcn095) e = row->metric("iterations");
+    const std::string head = "| " + std::to_string(number) + " | " + p.figure + " | " + p.quantity + " | " + fmt(p.paper, 1) + " | ";
     if (!e) {
-      md << "| " << p.figure << " | " << p.quantity << " | " << fmt(p.paper, 1) << " | not run | | | |\n";
+      md << head << "not run | | | |\n";
       continue;
     }
+    const std::string label = "#" + std::to_string(number) + " " + p.figure + ", " + p.quantity + ": paper " + fmt(p.paper, 1);
     if (e->n == 0) {
-      md << "| " << p.figure << " | " << p.quantity << " | " << fmt(p.paper, 1) << " | never reached in "
-         << row->trials << " trials | | 0 | **no** |\n";
-      differences.push_back(p.figure + ", " + p.quantity + ": paper " + fmt(p.paper, 1) +
-                            ", never reached here within the iteration cap. Why: " + p.why + ".");
+      md << head << "never reached in " << row->trials << " trials | | 0 | **no** |\n";
+      differences.push_back(label + ", never reached here within the iteration cap. Why: " +
+                            explain_difference(p, number, readings) + ".");
       continue;
     }
+    const bool agreement = agrees(*e, p);
     const double ci = std::isfinite(e->ci95) ? e->ci95 : 0.0;
-    const bool agrees = std::abs(e->mean - p.paper) <= ci + p.resolution;
-    md << "| " << p.figure << " | " << p.quantity << " | " << fmt(p.paper, 1) << " | " << fmt(e->mean, 2) << " | ±"
-       << fmt(ci, 2) << " | " << e->n << " | " << (agrees ? "yes" : "**no**") << " |\n";
-    if (!agrees) {
-      differences.push_back(p.figure + ", " + p.quantity + ": paper " + fmt(p.paper, 1) + ", measured " +
-                            fmt(e->mean, 2) + " ± " + fmt(ci, 2) + ". Why: " + p.why + ".");
+    md << head << fmt(e->mean, 2) << " | ±" << fmt(ci, 2) << " | " << e->n << " | " << (agreement ? "yes" : "**no**") << " |\n";
+    if (!agreement) {
+      differences.push_back(label + ", measured " + fmt(e->mean, 2) + " ± " + fmt(ci, 2) + ". Why: " +
+                            explain_difference(p, number, readings) + ".");
     }
   }
   // The abstract's claims: capacity ratio and SINR gain over random placement at the start.
@@ -305,6 +313,7 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
   if (builtin) md << "\n## Differences larger than the confidence interval\n\n";
   if (builtin && differences.empty()) md << "None.\n";
   for (const std::string& d : differences) md << "- " << d << "\n";
+  if (!readings.empty()) md << "\n" << readings_section(readings);
   for (const ExperimentExtension& e : extensions) {
     if (s.sweep(e.sweep) && e.report_section) md << "\n" << e.report_section(s, rows);
   }

@@ -1,6 +1,8 @@
 #include "losmimo/experiment/settings.h"
 
 #include <algorithm>
+#include <cctype>
+#include <sstream>
 #include <stdexcept>
 
 #include "losmimo/experiment/extension.h"
@@ -40,6 +42,14 @@ Algorithm algorithm_from_string(const std::string& name, const std::string& wher
   throw common::InputError(where + ": unknown algorithm '" + name + "' (known: random, gd, bf, ura, ura_lattice, ura_lattice_exact)");
 }
 
+std::string ReadingSpec::text() const {
+  std::string out = name + ":";
+  for (std::size_t i = 0; i < assignments.size(); ++i) {
+    out += (i ? ", " : " ") + assignments[i].first + "=" + assignments[i].second;
+  }
+  return out;
+}
+
 const SweepPoints* ExperimentSettings::sweep(const std::string& name) const {
   for (const SweepPoints& s : sweeps) {
     if (s.name == name) return &s;
@@ -56,6 +66,56 @@ auto& builtin_values(Settings& s, const std::string& name) {
     if (sweep.name == name) return sweep.values;
   }
   throw std::logic_error("no " + name + " sweep");
+}
+
+bool valid_reading_name(const std::string& name) {
+  if (name.empty()) return false;
+  for (const char c : name) {
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.')) return false;
+  }
+  return true;
+}
+
+// "name: section.key=value, ... | name: ..." (an empty text: none; ';' would start an INI comment). The keys are checked when the
+// readings are applied (load_experiment_settings).
+std::string trim(const std::string& text) {
+  const std::size_t b = text.find_first_not_of(" \t");
+  if (b == std::string::npos) return "";
+  return text.substr(b, text.find_last_not_of(" \t") - b + 1);
+}
+
+std::vector<ReadingSpec> parse_readings(const std::string& text, const std::string& where) {
+  std::vector<ReadingSpec> readings;
+  if (trim(text).empty()) return readings;
+  std::istringstream in(text);
+  std::string item;
+  while (std::getline(in, item, '|')) {
+    if (trim(item).empty()) throw common::InputError(where + ": an empty reading in '" + text + "'");
+    const std::size_t colon = item.find(':');
+    if (colon == std::string::npos) {
+      throw common::InputError(where + ": reading '" + trim(item) + "': expected name: section.key=value, ...");
+    }
+    ReadingSpec r;
+    r.name = trim(item.substr(0, colon));
+    if (!valid_reading_name(r.name)) {
+      throw common::InputError(where + ": reading name '" + r.name + "': letters, digits, '-', '_', '.' only");
+    }
+    for (const ReadingSpec& seen : readings) {
+      if (seen.name == r.name) throw common::InputError(where + ": reading '" + r.name + "' given twice");
+    }
+    for (const std::string& assignment : common::split_list(item.substr(colon + 1))) {
+      const std::size_t eq = assignment.find('=');
+      const std::size_t dot = assignment.find('.');
+      if (eq == std::string::npos || dot == std::string::npos || dot > eq || trim(assignment.substr(eq + 1)).empty()) {
+        throw common::InputError(where + ": reading '" + r.name + "': '" + assignment +
+                                 "': expected section.key=value");
+      }
+      r.assignments.emplace_back(trim(assignment.substr(0, eq)), trim(assignment.substr(eq + 1)));
+    }
+    if (r.assignments.empty()) throw common::InputError(where + ": reading '" + r.name + "' sets no key");
+    readings.push_back(std::move(r));
+  }
+  return readings;
 }
 
 // A list written as "a, b, c".
@@ -121,6 +181,29 @@ std::vector<common::Key<ExperimentSettings>> experiment_key_list() {
       K::integer("experiment", "threads", &ExperimentSettings::threads, 0, 1024,
                  "worker threads, 0 = all cores; results do not depend on it", "1"),
       K::boolean("experiment", "plots", &ExperimentSettings::plots, "gnuplot figures", "false"),
+      // Keys added later: written only when not at their default (existing config.ini files stay).
+      K::boolean("experiment", "milestone_columns", &ExperimentSettings::milestone_columns,
+                 "trials.csv / summary.csv columns iterations_to_icn050 and iterations_to_icn095", "true")
+          .unless_default(),
+      K::boolean("experiment", "paths", &ExperimentSettings::paths,
+                 "the path figure (paths.csv, paths.png) of the Fig 1 runs and under the largest sigma_act", "false")
+          .unless_default(),
+      K::text("experiment", "readings",
+              [](ExperimentSettings& s, const std::string& text, const std::string& where) {
+                s.readings = parse_readings(text, where);
+              },
+              [](const ExperimentSettings& s) {
+                std::string out;
+                for (const ReadingSpec& r : s.readings) out += (out.empty() ? "" : " | ") + r.text();
+                return out;
+              },
+              "name: section.key=value, ... | name: ... (none: empty)",
+              "readings measured beside this run: report.md's Why lines and readings.csv (readings.h)",
+              "gd-noescape: gd.escape=false, gd.stall_window=30 | bf-k: bf.contraction=1")
+          .unless_default(),
+      K::integer("experiment", "reading_trials", &ExperimentSettings::reading_trials, 2, 1'000'000,
+                 "trials per reading (the first ones of this run's)", "20")
+          .unless_default(),
   };
 }
 
@@ -174,7 +257,42 @@ ExperimentSettings load_experiment_settings(const common::IniConfig& cfg, const 
       if (sweep.values.empty()) throw common::InputError("sweep " + sweep.name + ": no sweep points");
     }
   }
+  // Every reading must make a valid configuration too, before any work.
+  for (const ReadingSpec& r : s.readings) {
+    try {
+      apply_reading(s, r, extensions);
+    } catch (const common::InputError& e) {
+      throw common::InputError(cfg.where("experiment", "readings") + ": " + e.what());
+    }
+  }
   return s;
+}
+
+ExperimentSettings apply_reading(const ExperimentSettings& base, const ReadingSpec& reading,
+                                 const ExperimentExtensions& extensions) {
+  common::IniConfig cfg = base.config;
+  cfg.set("experiment", "readings", "");
+  const auto known = placement::placement_config_keys();
+  for (const auto& [name, value] : reading.assignments) {
+    const std::size_t dot = name.find('.');
+    const std::string section = name.substr(0, dot);
+    const std::string key = name.substr(dot + 1);
+    const auto s = known.find(section);
+    if (s == known.end() || !s->second.count(key)) {
+      throw common::InputError("reading '" + reading.name + "': " + name +
+                               ": not a placement key (a reading sets [scenario], [errors], [placement], [gd], "
+                               "[bf] or [ura] keys)");
+    }
+    cfg.set(section, key, value);
+  }
+  try {
+    return load_experiment_settings(cfg, extensions);
+  } catch (const common::InputError& e) {
+    // The reading's keys were set like --set values: name the reading instead.
+    std::string what = e.what();
+    if (what.rfind("--set: ", 0) == 0) what.erase(0, 7);
+    throw common::InputError("reading '" + reading.name + "': " + what);
+  }
 }
 
 std::string to_ini(const ExperimentSettings& s) {
@@ -186,8 +304,8 @@ std::string to_ini(const ExperimentSettings& s) {
   return resolved.to_string();
 }
 
-std::vector<std::string> extra_metric_names(const ExperimentSettings& settings,
-                                            const ExperimentExtensions& extensions) {
+std::vector<std::string> extension_metric_names(const ExperimentSettings& settings,
+                                                const ExperimentExtensions& extensions) {
   std::vector<std::string> names;
   for (const SweepPoints& sp : settings.sweeps) {
     if (const ExperimentExtension* e = find_extension(extensions, sp.name)) {
@@ -195,6 +313,16 @@ std::vector<std::string> extra_metric_names(const ExperimentSettings& settings,
         if (std::find(names.begin(), names.end(), m) == names.end()) names.push_back(m);
       }
     }
+  }
+  return names;
+}
+
+std::vector<std::string> extra_metric_names(const ExperimentSettings& settings,
+                                            const ExperimentExtensions& extensions) {
+  std::vector<std::string> names = extension_metric_names(settings, extensions);
+  if (settings.milestone_columns) {
+    names.push_back(kIterationsToIcn050);
+    names.push_back(kIterationsToIcn095);
   }
   return names;
 }

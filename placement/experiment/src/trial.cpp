@@ -18,10 +18,11 @@ std::unique_ptr<placement::Planner> make_planner(const placement::PlacementSetti
   switch (a) {
     case Algorithm::kGd: return std::make_unique<placement::GradientDescentPlanner>(p.scenario, p.gd);
     case Algorithm::kBf: return std::make_unique<placement::BruteForcePlanner>(p.scenario, p.bf);
-    case Algorithm::kUra: return std::make_unique<placement::UraPlanner>(p.scenario, placement::UraVariant::kRigid);
-    case Algorithm::kUraLattice: return std::make_unique<placement::UraPlanner>(p.scenario, placement::UraVariant::kLattice);
+    case Algorithm::kUra: return std::make_unique<placement::UraPlanner>(p.scenario, placement::UraVariant::kRigid, p.ura);
+    case Algorithm::kUraLattice:
+      return std::make_unique<placement::UraPlanner>(p.scenario, placement::UraVariant::kLattice, p.ura);
     case Algorithm::kUraLatticeExact:
-      return std::make_unique<placement::UraPlanner>(p.scenario, placement::UraVariant::kLatticeExact);
+      return std::make_unique<placement::UraPlanner>(p.scenario, placement::UraVariant::kLatticeExact, p.ura);
     case Algorithm::kRandom: break;
   }
   return nullptr;
@@ -40,8 +41,22 @@ double mean_db(const Eigen::VectorXd& linear) {
   return sum / linear.size();
 }
 
+// The algorithm's own stop rule ([gd], [bf], [ura] target_icn / max_iterations) over [placement]'s.
+placement::RunOptions run_options_of(const placement::PlacementSettings& p, Algorithm a, placement::RunOptions run) {
+  switch (a) {
+    case Algorithm::kGd: return placement::with_override(run, p.gd_run);
+    case Algorithm::kBf: return placement::with_override(run, p.bf_run);
+    case Algorithm::kUra:
+    case Algorithm::kUraLattice:
+    case Algorithm::kUraLatticeExact: return placement::with_override(run, p.ura_run);
+    case Algorithm::kRandom: break;
+  }
+  return run;
+}
+
 placement::RunResult run_algorithm(const placement::PlacementSettings& p, Algorithm a, const Eigen::Matrix3Xd& start, std::uint64_t seed,
                         placement::RunOptions run) {
+  run = run_options_of(p, a, run);
   const placement::ChannelModel model(p.scenario);
   placement::Swarm swarm(model, start, p.errors, seed);
   std::unique_ptr<placement::Planner> planner = make_planner(p, a);
@@ -82,6 +97,8 @@ TrialRecord make_record(const ExperimentSettings& s, const std::string& sweep, i
   rec.final_icn = m.icn;
   rec.dist_to_icn050_m = r.icn050.reached ? r.icn050.placement_dist_m : kNaN;
   rec.dist_to_icn095_m = r.icn095.reached ? r.icn095.placement_dist_m : kNaN;
+  rec.icn050_iteration = r.icn050.reached ? r.icn050.iteration : -1;
+  rec.icn095_iteration = r.icn095.reached ? r.icn095.iteration : -1;
   rec.dist_placement_m = r.placement_dist_m.mean();
   rec.probe_dist_m = r.probe_dist_m.mean();
   rec.dist_total_m = rec.dist_placement_m + rec.probe_dist_m;
@@ -119,13 +136,24 @@ std::vector<TrialRecord> run_trial(const ExperimentSettings& s, const std::strin
   return records;
 }
 
-placement::RunResult run_traced(const ExperimentSettings& s, Algorithm algorithm, int trial) {
+placement::RunResult run_traced(const ExperimentSettings& s, Algorithm algorithm, int trial, bool record_path) {
   placement::PlacementSettings p = s.placement;
   p.errors = placement::ErrorModel{};
   placement::RunOptions run = p.run;
   run.trace_sinr = true;
+  run.record_path = record_path;
   return run_algorithm(p, algorithm, trial_start_positions_m(s, trial),
                        common::derive_seed(s.seed, {2, static_cast<std::uint64_t>(trial)}), run);
+}
+
+placement::RunResult run_path(const ExperimentSettings& s, Algorithm algorithm, int trial, double sigma_act_m) {
+  placement::PlacementSettings p = s.placement;
+  p.errors.sigma_loc_m = 0.0;
+  p.errors.sigma_act_m = sigma_act_m;
+  placement::RunOptions run = p.run;
+  run.record_path = true;
+  return run_algorithm(p, algorithm, trial_start_positions_m(s, trial),
+                       common::derive_seed(s.seed, {3, static_cast<std::uint64_t>(trial)}), run);
 }
 
 }  // namespace losmimo::experiment

@@ -5,6 +5,9 @@
 // its channel row (hence f with the others' broadcast rows) and flies back, each flight
 // subject to actuation error; it then moves by b_i times the probe of least measured f.
 // Probe flights are counted as probe distance, the final move as placement distance.
+// ProbeActuation::kKeptMoveOnly reads the pseudocode's probe flights as exact: each probe
+// measures f at q_m + b z without an actuation error (and without a draw), and only the kept
+// move has one; the probe lengths are still counted.
 //
 // Robustness, both location-free: (1) compass contraction: a UAV whose best probe is z = 0
 // multiplies its own step by `contraction` (down to min_step_m) and grows it back by
@@ -19,6 +22,10 @@
 
 namespace losmimo::placement {
 
+enum class ProbeActuation { kEveryLeg, kKeptMoveOnly };
+std::string to_string(ProbeActuation mode);  // "every_leg", "kept_move_only"
+ProbeActuation probe_actuation_from_string(const std::string& name);  // std::invalid_argument
+
 struct BfOptions {
   double step = 0.3;
   double decay = 0.999;
@@ -27,6 +34,7 @@ struct BfOptions {
   bool escape = true;
   int stall_window = 20;
   double stall_min_decrease = 0.01;
+  ProbeActuation probe_actuation = ProbeActuation::kEveryLeg;
 };
 // The values each option accepts (validate() and the [bf] keys).
 namespace bf_range {
@@ -46,7 +54,8 @@ class BruteForcePlanner : public Planner {
   void start(Swarm& swarm) override;
   void iterate(Swarm& swarm, int iteration) override;
   // Probes and moves one UAV with step b (metres); returns the index (0..6) of the chosen probe.
-  static int step_uav(Swarm& swarm, int m, double b);
+  static int step_uav(Swarm& swarm, int m, double b,
+                      ProbeActuation probe_actuation = ProbeActuation::kEveryLeg);
 
  private:
   bool try_escape(Swarm& swarm);

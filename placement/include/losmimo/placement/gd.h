@@ -77,6 +77,8 @@ class GradientDescentPlanner : public Planner {
   std::string name() const override { return "gd"; }
   void start(Swarm& swarm) override;
   void iterate(Swarm& swarm, int iteration) override;
+  // Each UAV's estimate at the last iteration plus the moves it commanded since.
+  std::optional<Eigen::Matrix3Xd> believed_positions() const override;
 
   // The move UAV m would command from believed position q_hat_m (exposed for tests).
   Eigen::Vector3d plan_move(const Swarm& swarm, int m, const Eigen::Vector3d& q_hat_m,
@@ -90,6 +92,7 @@ class GradientDescentPlanner : public Planner {
   double bs_spacing_m_;
   StallDetector stall_;
   int escape_rank_ = 0;
+  Eigen::Matrix3Xd believed_m_;  // empty before the first iteration
 };
 
 }  // namespace losmimo::placement

@@ -41,7 +41,24 @@ class Planner {
   virtual void iterate(Swarm& swarm, int iteration) = 0;
   // Set once the planner has found a fault that ends the run (checked after every iterate()).
   virtual std::optional<PlannerFault> fault() const { return std::nullopt; }
+  // Where the planner (the master) believes the UAVs are after the last iterate() (3 x Nr), for
+  // RunOptions::StopOn::kBelief; nullopt when it keeps no belief (BF: channel only), or before
+  // the first iteration.
+  virtual std::optional<Eigen::Matrix3Xd> believed_positions() const { return std::nullopt; }
 };
+
+// What the master's stop test evaluates (the paper: "c = evalChannelOrthogonality()"):
+// kCsi the ICN of the measured channel (the true positions), kBelief the ICN of the channel the
+// planner's believed positions would have (Planner::believed_positions(); kCsi when it has none).
+enum class StopOn { kCsi, kBelief };
+std::string to_string(StopOn stop_on);
+StopOn stop_on_from_string(const std::string& name);  // std::invalid_argument for other names
+
+// Which length a distance counts: kTruePath the true straight-line segments flown, kCommanded
+// the commanded moves |r| (they differ only under actuation error).
+enum class DistanceKind { kTruePath, kCommanded };
+std::string to_string(DistanceKind kind);
+DistanceKind distance_kind_from_string(const std::string& name);  // std::invalid_argument
 
 struct RunOptions {
   double target_icn = 0.95;
@@ -53,6 +70,13 @@ struct RunOptions {
   // the trace. Milestones, status and iterations are the same either way; the experiment's
   // untraced runs use it (runs under errors spend most iterations far below the target).
   bool full_icn_trace = true;
+  StopOn stop_on = StopOn::kCsi;
+  // The distances of the trace, the milestones and RunResult's per-UAV distances.
+  DistanceKind distance = DistanceKind::kTruePath;
+  // The milestones' distance counts the BF probe flights too (placement + probe).
+  bool milestone_distance_includes_probes = false;
+  // Keep the true positions after every iteration in RunResult::path (figures).
+  bool record_path = false;
 };
 // The values each option accepts (validate() and the [placement] keys).
 namespace run_range {
@@ -78,7 +102,9 @@ struct IterationRecord {
 struct Milestone {
   bool reached = false;
   int iteration = -1;
-  double placement_dist_m = 0.0;  // mean per UAV at that iteration
+  // Mean per UAV at that iteration: placement distance, plus probe distance with
+  // RunOptions::milestone_distance_includes_probes.
+  double placement_dist_m = 0.0;
 };
 
 struct RunResult {
@@ -96,8 +122,11 @@ struct RunResult {
   Milestone icn095;
   Eigen::Matrix3Xd start_m;
   Eigen::Matrix3Xd final_m;
-  Eigen::VectorXd placement_dist_m;  // per UAV
+  Eigen::VectorXd placement_dist_m;  // per UAV (RunOptions::distance)
   Eigen::VectorXd probe_dist_m;      // per UAV
+  // With RunOptions::record_path: the true positions at every trace entry (iteration 0 is
+  // start_m; without a fault the last is final_m), one 3 x Nr matrix each; empty otherwise.
+  std::vector<Eigen::Matrix3Xd> path;
   bool converged() const { return status == RunStatus::kConverged; }
   bool faulted() const {
     return status == RunStatus::kUavUnresponsive || status == RunStatus::kNumericalFault;

@@ -1,8 +1,11 @@
 #pragma once
 // The placement settings an INI config holds, with the paper's values as defaults: sections
-// [scenario] (Scenario), [errors] (ErrorModel), [placement] (RunOptions), [gd] (GdOptions) and
-// [bf] (BfOptions). Every key, with its field, accepted values and meaning, is declared once in
-// the key table in settings.cpp (placement_keys(); common/key_table.h).
+// [scenario] (Scenario), [errors] (ErrorModel), [placement] (RunOptions), [gd] (GdOptions),
+// [bf] (BfOptions) and [ura] (UraOptions), plus per-algorithm stop rules in [gd], [bf] and [ura]
+// (RunOverride). Every key, with its field, accepted values and meaning, is declared once in
+// the key table in settings.cpp (placement_keys(); common/key_table.h). Keys added after the
+// paper setup was fixed are written only when not at their default, so that the defaults' text
+// (paper.ini, every recorded rawlog's CONFIG) stays the same.
 
 #include <map>
 #include <set>
@@ -12,8 +15,17 @@
 #include "losmimo/common/key_table.h"
 #include "losmimo/placement/bf.h"
 #include "losmimo/placement/gd.h"
+#include "losmimo/placement/ura.h"
 
 namespace losmimo::placement {
+
+// One algorithm's own stop rule in the experiment's runs; unset fields take [placement]'s.
+struct RunOverride {
+  double target_icn = 0.0;  // 0: unset
+  int max_iterations = -1;  // -1: unset
+};
+// `run` with the override's set fields.
+RunOptions with_override(RunOptions run, const RunOverride& override_);
 
 struct PlacementSettings {
   Scenario scenario;
@@ -21,6 +33,10 @@ struct PlacementSettings {
   RunOptions run;
   GdOptions gd;
   BfOptions bf;
+  UraOptions ura;
+  RunOverride gd_run;
+  RunOverride bf_run;
+  RunOverride ura_run;
 };
 
 // The key table: one entry per key (section, key, field, accepted values, meaning).

@@ -3,11 +3,16 @@
 // models, and the distance each UAV has flown.
 //
 // Errors (paper section 2), drawn from the swarm's own generator:
-// - localization: an estimate of UAV m's position is q_m + N(0, sigma_loc_m^2 I), drawn
-//   fresh at every estimate;
-// - actuation: a commanded motion r from q_m ends at q_m + r + N(0, sigma_act_m^2 I).
-// Distances are the true straight-line lengths flown, placement moves and BF probe motions
-// kept apart.
+// - localization: an estimate of UAV m's position is q_m + N(0, s_loc^2 I), drawn fresh at
+//   every estimate;
+// - actuation: a commanded motion r from q_m ends at q_m + r + N(0, s_act^2 I).
+// The per-axis deviations s are the sigmas as given (SigmaConvention::kPerAxis) or sigma / sqrt(3)
+// (kRms3d: sigma is the RMS length of the 3-D error). The paper says only "random Gaussian
+// variables with standard deviations sigma_loc and sigma_act"; per axis is the default.
+// With LocError::kFixedPerUav the localization error of UAV m is one draw n_m per swarm (a bias
+// that stays for the whole run), from a generator of its own seeded from the swarm's seed.
+// Distances: the true straight-line lengths flown, and the commanded lengths |r|, placement
+// moves and BF probe motions kept apart.
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -20,9 +25,28 @@
 
 namespace losmimo::placement {
 
+enum class SigmaConvention { kPerAxis, kRms3d };
+// "per_axis", "rms_3d"; from_string throws std::invalid_argument listing the names.
+std::string to_string(SigmaConvention convention);
+SigmaConvention sigma_convention_from_string(const std::string& name);
+
+enum class LocError { kFresh, kFixedPerUav };
+// "fresh", "fixed_per_uav".
+std::string to_string(LocError kind);
+LocError loc_error_from_string(const std::string& name);
+
 struct ErrorModel {
   double sigma_loc_m = 0.0;
   double sigma_act_m = 0.0;
+  SigmaConvention sigma_convention = SigmaConvention::kPerAxis;
+  LocError loc_error = LocError::kFresh;
+
+  // The standard deviation per axis of each error [m].
+  double axis_sigma_loc_m() const { return axis_sigma(sigma_loc_m); }
+  double axis_sigma_act_m() const { return axis_sigma(sigma_act_m); }
+
+ private:
+  double axis_sigma(double sigma_m) const;
 };
 // The values each sigma accepts (validate() and the [errors] keys). The bound: beyond ~1e154 m a
 // drawn position overflows the channel's distances (1e300 ran with NaN channels).
@@ -66,6 +90,12 @@ class Swarm {
 
   const Eigen::VectorXd& placement_distance_m() const { return placement_dist_m_; }
   const Eigen::VectorXd& probe_distance_m() const { return probe_dist_m_; }
+  // The same lengths as commanded (sum of |r|), before the actuation error.
+  const Eigen::VectorXd& commanded_placement_distance_m() const { return commanded_placement_dist_m_; }
+  const Eigen::VectorXd& commanded_probe_distance_m() const { return commanded_probe_dist_m_; }
+  // Counts a probe flight out by r and back that has no actuation error (BF's
+  // ProbeActuation::kKeptMoveOnly): 2 |r| true and commanded, the UAV ends where it was.
+  void count_exact_probe(int m, const Eigen::Vector3d& r_m);
 
   // A different localization source (e.g. a filter's belief) replaces the Gaussian model.
   using PositionEstimator = std::function<Eigen::Vector3d(int m, const Eigen::Vector3d& true_q_m)>;
@@ -83,6 +113,11 @@ class Swarm {
   std::normal_distribution<double> normal_{0.0, 1.0};
   Eigen::VectorXd placement_dist_m_;
   Eigen::VectorXd probe_dist_m_;
+  Eigen::VectorXd commanded_placement_dist_m_;
+  Eigen::VectorXd commanded_probe_dist_m_;
+  double axis_sigma_loc_m_ = 0.0;
+  double axis_sigma_act_m_ = 0.0;
+  Eigen::Matrix3Xd loc_bias_m_;  // LocError::kFixedPerUav: UAV m's fixed error (3 x Nr), else empty
   PositionEstimator estimator_;
   std::optional<SwarmFault> fault_;
 };

@@ -21,6 +21,9 @@ struct TracedRun {
   Algorithm algorithm;
   int trial;
   placement::RunResult result;
+  // 0: a Fig 1 run (no errors, traces.csv); > 0: a path-figure run under this actuation error.
+  double sigma_act_m = 0.0;
+  bool fig1() const { return sigma_act_m == 0.0; }
 };
 
 struct ExperimentResults {
@@ -54,7 +57,9 @@ ExperimentResults run_experiment(const ExperimentSettings& settings, const Exper
 int num_sweep_points(const ExperimentSettings& settings);
 
 // The Fig 1 runs: GD and BF (those of them in the settings' algorithms) without errors, traced,
-// fig1_trials each, when a built-in sweep runs.
+// fig1_trials each, when a built-in sweep runs; with [experiment] paths, trial 0's positions are
+// recorded and GD and BF run again from trial 0's start under the largest sigma_act of the
+// sweep (run_path).
 std::vector<TracedRun> traced_runs(const ExperimentSettings& settings);
 
 }  // namespace losmimo::experiment

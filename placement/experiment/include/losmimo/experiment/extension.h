@@ -43,8 +43,20 @@ std::map<std::string, std::set<std::string>> experiment_config_keys(const Experi
 ExperimentSettings load_experiment_settings(const common::IniConfig& config, const ExperimentExtensions& extensions = {});
 std::string to_ini(const ExperimentSettings& settings);
 
-// The extra metric columns of the sweeps enabled in `settings`, in extension order.
+// The settings of a reading: `base`'s configuration with the reading's keys set (placement keys
+// only), validated like any config, without readings of its own. common::InputError names the
+// reading and the key.
+ExperimentSettings apply_reading(const ExperimentSettings& base, const ReadingSpec& reading,
+                                 const ExperimentExtensions& extensions);
+
+// The extra metric columns: the extensions' of the sweeps enabled in `settings`, in extension
+// order, then with [experiment] milestone_columns kIterationsToIcn050 and kIterationsToIcn095.
 std::vector<std::string> extra_metric_names(const ExperimentSettings& settings,
                                             const ExperimentExtensions& extensions);
+// The extensions' part of it.
+std::vector<std::string> extension_metric_names(const ExperimentSettings& settings,
+                                                const ExperimentExtensions& extensions);
+inline const std::string kIterationsToIcn050 = "iterations_to_icn050";
+inline const std::string kIterationsToIcn095 = "iterations_to_icn095";
 
 }  // namespace losmimo::experiment

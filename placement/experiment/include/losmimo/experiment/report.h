@@ -7,9 +7,14 @@
 //   fig3.png   final SINR vs sigma_act
 // Each figure's data (.dat) and script (.gp) sit beside it; gnuplot (Debian gnuplot-nox) is run
 // when it is on PATH, else the scripts are left for the user and a warning says so.
+//   paths.png  the UAVs' paths of the Fig 1 runs (trial 0) and of GD and BF under the largest
+//              sigma_act, lateral and side views ([experiment] paths; data in paths.csv)
 // report.md puts every value read from the paper's figures beside the measured mean and its
 // 95% confidence interval; a value agrees when |measured - paper| <= CI + the resolution at
-// which it can be read off the paper's plot; every other difference gets a line saying why.
+// which it can be read off the paper's plot. Every other difference gets a "Why" line from
+// measurement: the readings (readings.h) that move it, by how much, from paired runs made here,
+// or "cause unknown" when none does (or none was run). readings.csv holds every reading's
+// numbers.
 
 #include <string>
 #include <vector>
@@ -57,8 +62,10 @@ struct PaperValue {
   std::string metric;    // a summary_metric_names() entry
   double paper;
   double resolution;     // how precisely the value can be read off the paper's figure
-  std::string why;       // the explanation used if the measured value differs
 };
+// The 27 values, numbered 1..27 in this order. Fig 1's iteration counts use the metric
+// iterations_to_icn095 (the report falls back to `iterations` without milestone columns: the
+// same number for runs that stop at ICN 0.95).
 std::vector<PaperValue> paper_values();
 
 }  // namespace losmimo::experiment

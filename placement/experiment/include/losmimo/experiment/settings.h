@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "losmimo/common/ini_config.h"
@@ -33,6 +34,14 @@ struct SweepPoints {
   std::vector<double> values;
 };
 
+// A reading: a name and placement keys set on top of the run's configuration, written in
+// [experiment] readings as "name: section.key=value, section.key=value | name2: ...".
+struct ReadingSpec {
+  std::string name;
+  std::vector<std::pair<std::string, std::string>> assignments;  // ("gd.escape", "false")
+  std::string text() const;  // "name: gd.escape=false, gd.step=0.8"
+};
+
 struct ExperimentSettings {
   placement::PlacementSettings placement;
   common::IniConfig config;  // the whole validated config: extensions read their own sections
@@ -46,6 +55,16 @@ struct ExperimentSettings {
   int fig1_trials = 1;
   int threads = 0;
   bool plots = true;
+  // trials.csv and summary.csv get the columns iterations_to_icn050 and iterations_to_icn095
+  // (after any extension's), the iteration at which each run first reached that ICN.
+  bool milestone_columns = false;
+  // The path figure (paths.csv, paths.png): the Fig 1 runs of trial 0 and, under the largest
+  // sigma_act of the sweep, GD and BF from the same start.
+  bool paths = true;
+  // Readings (readings.h), each run beside this configuration at the paper values' sweep points,
+  // reading_trials trials each, paired with the same seeds.
+  std::vector<ReadingSpec> readings;
+  int reading_trials = 50;
 
   // The sweep of that name, or nullptr.
   const SweepPoints* sweep(const std::string& name) const;

@@ -9,6 +9,9 @@
 // distance when the ICN first reached 0.5 / 0.95 (NaN if never); dist_total_m is everything
 // flown (placement + probe), probe_dist_m the BF probe flights alone. SINR columns are stream 1
 // (as the paper) and the mean of the per-stream dB values, at the final positions.
+// icn050_iteration / icn095_iteration: the iteration at which the ICN first reached 0.5 / 0.95
+// (-1: never); they are columns of trials.csv and summary.csv only with
+// [experiment] milestone_columns (iterations_to_icn050, iterations_to_icn095).
 
 #include <cstdint>
 #include <string>
@@ -43,6 +46,8 @@ struct TrialRecord {
   double mean_sinr_mf_db = 0.0;
   double sum_rate_nv_bps_hz = 0.0;
   double sum_rate_zf_bps_hz = 0.0;
+  int icn050_iteration = -1;
+  int icn095_iteration = -1;
   Eigen::Matrix3Xd start_m;
   Eigen::Matrix3Xd final_m;
   std::vector<double> extra;  // an extension's extra metrics (ExperimentExtension::extra_metrics)
@@ -62,7 +67,12 @@ TrialRecord make_record(const ExperimentSettings& settings, const std::string& s
 std::vector<TrialRecord> run_trial(const ExperimentSettings& settings, const std::string& sweep, int point,
                                    int trial);
 
-// A Fig 1 run: `algorithm` without errors from trial `trial`'s start, SINR traced.
-placement::RunResult run_traced(const ExperimentSettings& settings, Algorithm algorithm, int trial);
+// A Fig 1 run: `algorithm` without errors from trial `trial`'s start, SINR traced (and with
+// record_path, the positions after every iteration).
+placement::RunResult run_traced(const ExperimentSettings& settings, Algorithm algorithm, int trial,
+                                bool record_path = false);
+// The same start under actuation error sigma_act_m alone, positions recorded (the path figure);
+// seed derive_seed(seed, {3, trial}).
+placement::RunResult run_path(const ExperimentSettings& settings, Algorithm algorithm, int trial, double sigma_act_m);
 
 }  // namespace losmimo::experiment
