@@ -9,10 +9,56 @@ ChannelModel::ChannelModel(const Scenario& scenario)
     : antennas_m_(bs_antenna_positions_m(scenario)),
       wavenumber_rad_per_m_(2.0 * M_PI / scenario.wavelength_m()),
       range_m_(scenario.range_m()),
-      gain_model_(scenario.gain_model) {
+      gain_model_(scenario.gain_model),
+      kernels_(&kernels::active_kernels()) {
   ax_m_ = antennas_m_.row(0).transpose().array();
   ay_m_ = antennas_m_.row(1).transpose().array();
   az_m_ = antennas_m_.row(2).transpose().array();
+  const int nt = num_antennas();
+  const int ld = kernels::padded(nt);
+  padded_x_m_.assign(ld, 0.0);
+  padded_y_m_.assign(ld, 0.0);
+  padded_z_m_.assign(ld, 0.0);
+  padded_valid_.assign(ld, 0.0);
+  for (int k = 0; k < nt; ++k) {
+    padded_x_m_[k] = antennas_m_(0, k);
+    padded_y_m_[k] = antennas_m_(1, k);
+    padded_z_m_[k] = antennas_m_(2, k);
+    padded_valid_[k] = 1.0;
+  }
+  geometry_.nt = nt;
+  geometry_.ld = ld;
+  geometry_.wavenumber_rad_per_m = wavenumber_rad_per_m_;
+  geometry_.range_m = range_m_;
+  geometry_.exact_gain = gain_model_ == GainModel::kExact;
+  geometry_.ax_m = padded_x_m_.data();
+  geometry_.ay_m = padded_y_m_.data();
+  geometry_.az_m = padded_z_m_.data();
+  geometry_.valid = padded_valid_.data();
+}
+
+ChannelModel::ChannelModel(const ChannelModel& other) { *this = other; }
+
+ChannelModel& ChannelModel::operator=(const ChannelModel& other) {
+  if (this == &other) return *this;
+  antennas_m_ = other.antennas_m_;
+  ax_m_ = other.ax_m_;
+  ay_m_ = other.ay_m_;
+  az_m_ = other.az_m_;
+  padded_x_m_ = other.padded_x_m_;
+  padded_y_m_ = other.padded_y_m_;
+  padded_z_m_ = other.padded_z_m_;
+  padded_valid_ = other.padded_valid_;
+  wavenumber_rad_per_m_ = other.wavenumber_rad_per_m_;
+  range_m_ = other.range_m_;
+  gain_model_ = other.gain_model_;
+  kernels_ = other.kernels_;
+  geometry_ = other.geometry_;
+  geometry_.ax_m = padded_x_m_.data();
+  geometry_.ay_m = padded_y_m_.data();
+  geometry_.az_m = padded_z_m_.data();
+  geometry_.valid = padded_valid_.data();
+  return *this;
 }
 
 Eigen::VectorXcd ChannelModel::row(const Eigen::Vector3d& q_m) const {

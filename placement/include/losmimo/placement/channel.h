@@ -9,7 +9,9 @@
 // the noise variance in the same units is 1 / SNR (Scenario::noise_variance).
 
 #include <Eigen/Core>
+#include <vector>
 
+#include "losmimo/placement/kernels.h"
 #include "losmimo/placement/phasor.h"
 #include "losmimo/placement/scenario.h"
 
@@ -18,6 +20,9 @@ namespace losmimo::placement {
 class ChannelModel {
  public:
   explicit ChannelModel(const Scenario& scenario);
+  // Copies point their geometry at their own arrays.
+  ChannelModel(const ChannelModel& other);
+  ChannelModel& operator=(const ChannelModel& other);
 
   // The channel row (as a column vector, length Nt) of a UAV at q_m (metres).
   Eigen::VectorXcd row(const Eigen::Vector3d& q_m) const;
@@ -37,6 +42,9 @@ class ChannelModel {
   double wavenumber_rad_per_m() const { return wavenumber_rad_per_m_; }
   double range_m() const { return range_m_; }
   GainModel gain_model() const { return gain_model_; }
+  // The array in the kernels' padded layout (kernels.h), and the kernels of this process.
+  const kernels::RowGeometry& geometry() const { return geometry_; }
+  const kernels::Kernels& kernels() const { return *kernels_; }
 
  private:
   Eigen::Matrix3Xd antennas_m_;
@@ -44,6 +52,9 @@ class ChannelModel {
   double wavenumber_rad_per_m_;
   double range_m_;
   GainModel gain_model_;
+  std::vector<double> padded_x_m_, padded_y_m_, padded_z_m_, padded_valid_;
+  kernels::RowGeometry geometry_;
+  const kernels::Kernels* kernels_;
 };
 
 }  // namespace losmimo::placement
