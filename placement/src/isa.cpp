@@ -26,7 +26,7 @@ bool isa_supported(Isa isa) {
   __builtin_cpu_init();
   switch (isa) {
     case Isa::kSse2: return true;  // the x86-64 baseline
-    case Isa::kAvx2: return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    case Isa::kAvx2: return __builtin_cpu_supports("avx2");
     case Isa::kAvx512:
       // The AVX-512 kernels also use DQ (64-bit integer multiplies, conversions) and VL.
       return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&

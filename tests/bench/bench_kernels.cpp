@@ -6,10 +6,11 @@
 //
 // Counters: flops (flops per second of CPU time, by the counts below) and pct_peak (that
 // against BM_PeakFlops of the same instruction set, measured once in the same process: SSE2
-// multiply + add, AVX2 and AVX-512 FMA). Flop counts, an FMA counted as 2:
+// multiply + add, AVX2 and AVX-512 FMA: the machine's limit, although the kernels use no FMA,
+// kernels.h says why). Flop counts, a multiply-add counted as 2:
 //   phase -> (cos, sin): 45 (reduction 9, two degree-7 polynomials 24, the rest 12);
 //   channel row entry: 55 (distance 9, phase 1, sincos 45);
-//   objectives_lanes: 6 n kLanes (S, Q) + 4 n^2 (M's triangle) + 32 n^2 (4 FMAs per lane per
+//   objectives_lanes: 6 n kLanes (S, Q) + 4 n^2 (M's triangle) + 32 n^2 (4 multiply-adds per lane per
 //     pair l < k, 8 lanes) + 6 n kLanes: 36 n^2 + 96 n;
 //   BF UAV step = rows_lanes + objectives_lanes: 440 n + 36 n^2 + 96 n;
 //   objective_of_row: 8 n^2 (conj(G) x) + 36 n; objective_at: + 55 n; gradient: + 30 n more;

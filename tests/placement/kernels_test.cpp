@@ -377,3 +377,44 @@ TEST(Kernels, Normals_HaveStandardNormalMomentsAndNoLagOneCorrelation) {
   EXPECT_NEAR(sum3 / count, 0.0, 2e-2);
   EXPECT_NEAR(lag / count, 0.0, 5e-3);
 }
+
+TEST(Kernels, EveryBuild_GivesTheSameBits) {
+  // GIVEN: the same inputs to each supported build, at a padded size (Nt = 12) and 64
+  const std::vector<const lk::Kernels*> all = builds();
+  for (const Size& size : {Size{3, 4, false}, Size{8, 8, true}}) {
+    const KernelInputs s = make_inputs(size.rows, size.cols, size.exact, 61);
+    const lk::RowGeometry& g = s.geometry;
+    const lk::GramPlanes G = s.gram();
+    std::mt19937_64 rng(62);
+    double px[lk::kLanes], py[lk::kLanes], pz[lk::kLanes];
+    random_lanes(s, rng, px, py, pz);
+    const double q[3] = {px[0], py[0], pz[0]};
+    // Everything each kernel returns, as one vector of doubles per build.
+    std::vector<std::vector<double>> out;
+    for (const lk::Kernels* k : all) {
+      std::vector<double> o;
+      std::vector<double> Xr(g.ld * lk::kLanes), Xi(g.ld * lk::kLanes), xr(g.ld), xi(g.ld), f(lk::kLanes);
+      k->rows_lanes(g, px, py, pz, Xr.data(), Xi.data());
+      k->row(g, q, xr.data(), xi.data());
+      const double F_A = k->leave_one_out_energy(G, s.row_re(2), s.row_im(2));
+      k->objectives_lanes(G, s.row_re(2), s.row_im(2), F_A, Xr.data(), Xi.data(), f.data());
+      double grad[3];
+      const double fg = k->gradient(g, G, s.row_re(2), s.row_im(2), F_A, q, grad);
+      std::vector<double> yr(g.ld), yi(g.ld), z(16 * 9), gr = s.gr, gi = s.gi;
+      k->hermitian_matvec(G, xr.data(), xi.data(), yr.data(), yi.data());
+      k->normals(99, 3, z.data(), 9);
+      k->gram_update(gr.data(), gi.data(), g.nt, g.ld, xr.data(), xi.data(), s.row_re(2), s.row_im(2));
+      for (const auto* v : {&Xr, &Xi, &xr, &xi, &f, &yr, &yi, &z, &gr, &gi}) o.insert(o.end(), v->begin(), v->end());
+      o.insert(o.end(), {F_A, fg, grad[0], grad[1], grad[2], k->objective_of_row(G, s.row_re(2), s.row_im(2), F_A, xr.data(), xi.data())});
+      out.push_back(o);
+    }
+    // THEN: byte-identical results (kernels.h: no fused multiply-adds, fixed summation order)
+    for (std::size_t b = 1; b < out.size(); ++b) {
+      ASSERT_EQ(out[b].size(), out[0].size());
+      for (std::size_t i = 0; i < out[0].size(); ++i) {
+        ASSERT_EQ(std::memcmp(&out[b][i], &out[0][i], sizeof(double)), 0)
+            << lp::to_string(all[b]->isa) << " vs " << lp::to_string(all[0]->isa) << " at " << i;
+      }
+    }
+  }
+}

@@ -1,11 +1,10 @@
 #pragma once
 // The instruction set the placement kernels run on (kernels.h), chosen once per process.
 //
-// Default: the widest this CPU supports (AVX-512 > AVX2 + FMA > SSE2, the x86-64 baseline).
-// The environment variable LOSMIMO_ISA = sse2 | avx2 | avx512 forces one (tests run the same
-// trials on each). Every thread, shard and resumed run of a process uses the same kernels, so
-// results stay byte-identical on one machine; across instruction sets they agree to rounding
-// (the FMA builds round multiply-adds once; see kernels.h).
+// Default: the widest this CPU supports (AVX-512 > AVX2 > SSE2, the x86-64 baseline). The
+// environment variable LOSMIMO_ISA = sse2 | avx2 | avx512 forces one (tests run the same trials
+// on each). The kernels are written to give the same bits on every instruction set (kernels.h):
+// the choice changes speed, not results.
 
 #include <string>
 #include <vector>
@@ -13,8 +12,8 @@
 namespace losmimo::placement {
 
 enum class Isa {
-  kSse2,    // 2 doubles per vector, no FMA
-  kAvx2,    // AVX2 + FMA: 4 doubles per vector
+  kSse2,    // 2 doubles per vector (the x86-64 baseline)
+  kAvx2,    // AVX2: 4 doubles per vector
   kAvx512,  // AVX-512 F/DQ/VL: 8 doubles per vector
 };
 
