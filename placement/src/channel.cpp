@@ -11,9 +11,6 @@ ChannelModel::ChannelModel(const Scenario& scenario)
       range_m_(scenario.range_m()),
       gain_model_(scenario.gain_model),
       kernels_(&kernels::active_kernels()) {
-  ax_m_ = antennas_m_.row(0).transpose().array();
-  ay_m_ = antennas_m_.row(1).transpose().array();
-  az_m_ = antennas_m_.row(2).transpose().array();
   const int nt = num_antennas();
   const int ld = kernels::padded(nt);
   padded_x_m_.assign(ld, 0.0);
@@ -42,9 +39,6 @@ ChannelModel::ChannelModel(const ChannelModel& other) { *this = other; }
 ChannelModel& ChannelModel::operator=(const ChannelModel& other) {
   if (this == &other) return *this;
   antennas_m_ = other.antennas_m_;
-  ax_m_ = other.ax_m_;
-  ay_m_ = other.ay_m_;
-  az_m_ = other.az_m_;
   padded_x_m_ = other.padded_x_m_;
   padded_y_m_ = other.padded_y_m_;
   padded_z_m_ = other.padded_z_m_;
@@ -70,27 +64,17 @@ Eigen::VectorXcd ChannelModel::row(const Eigen::Vector3d& q_m) const {
 void ChannelModel::row(const Eigen::Vector3d& q_m, Eigen::VectorXcd& x) const {
   const int nt = num_antennas();
   x.resize(nt);
-  // Per-thread scratch: a probe allocates nothing. Whole-array expressions vectorise.
-  thread_local Eigen::ArrayXd d_m, phase_rad, c, s;
-  d_m = ((ax_m_ - q_m.x()).square() + (ay_m_ - q_m.y()).square() + (az_m_ - q_m.z()).square()).sqrt();
-  // d / lambda is ~2e5 cycles at 1 km and 60 GHz: unit_phasors reduces the phase exactly.
-  phase_rad = -wavenumber_rad_per_m_ * d_m;
-  c.resize(nt);
-  s.resize(nt);
-  unit_phasors(phase_rad.data(), c.data(), s.data(), nt);
-  double* out = reinterpret_cast<double*>(x.data());
-  if (gain_model_ == GainModel::kExact) {
-    for (int k = 0; k < nt; ++k) {
-      const double amplitude = range_m_ / d_m(k);
-      out[2 * k] = amplitude * c(k);
-      out[2 * k + 1] = amplitude * s(k);
-    }
-  } else {
-    for (int k = 0; k < nt; ++k) {
-      out[2 * k] = c(k);
-      out[2 * k + 1] = s(k);
-    }
-  }
+  // Per-thread scratch: a row allocates nothing. The kernel writes split planes.
+  thread_local std::vector<double> re, im;
+  re.resize(geometry_.ld);
+  im.resize(geometry_.ld);
+  row_planes(q_m, re.data(), im.data());
+  for (int k = 0; k < nt; ++k) x(k) = std::complex<double>(re[k], im[k]);
+}
+
+void ChannelModel::row_planes(const Eigen::Vector3d& q_m, double* re, double* im) const {
+  const double q[3] = {q_m.x(), q_m.y(), q_m.z()};
+  kernels_->row(geometry_, q, re, im);
 }
 
 Eigen::MatrixXcd ChannelModel::matrix(const Eigen::Matrix3Xd& q_m) const {

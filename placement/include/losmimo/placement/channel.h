@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "losmimo/placement/kernels.h"
-#include "losmimo/placement/phasor.h"
 #include "losmimo/placement/scenario.h"
 
 namespace losmimo::placement {
@@ -28,6 +27,8 @@ class ChannelModel {
   Eigen::VectorXcd row(const Eigen::Vector3d& q_m) const;
   // The same row into x (resized to Nt; no allocation when it already has that size).
   void row(const Eigen::Vector3d& q_m, Eigen::VectorXcd& x) const;
+  // The same row in the kernels' layout: re[k] + j im[k], k < geometry().ld (pads 0).
+  void row_planes(const Eigen::Vector3d& q_m, double* re, double* im) const;
   // The full Nr x Nt channel of UAVs at the columns of q_m (3 x Nr).
   Eigen::MatrixXcd matrix(const Eigen::Matrix3Xd& q_m) const;
 
@@ -48,7 +49,6 @@ class ChannelModel {
 
  private:
   Eigen::Matrix3Xd antennas_m_;
-  Eigen::ArrayXd ax_m_, ay_m_, az_m_;  // the antennas' coordinates, one array per axis
   double wavenumber_rad_per_m_;
   double range_m_;
   GainModel gain_model_;
