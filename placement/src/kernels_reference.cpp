@@ -81,8 +81,9 @@ double objective_of_row(const GramPlanes& G, const double* or_, const double* oi
   return F_A + 2.0 * cross + S * S - Q;
 }
 
-void objectives_lanes(const GramPlanes& G, const double* or_, const double* oi, double F_A, const double* Xr,
-                      const double* Xi, double* f) {
+void objectives_lanes(const GramPlanes& G, const double* or_, const double* oi, const double* Xr, const double* Xi,
+                      double* f) {
+  const double F_A = leave_one_out_energy(G, or_, oi);
   std::vector<double> xr(G.ld), xi(G.ld);
   for (int p = 0; p < kLanes; ++p) {
     for (int k = 0; k < G.ld; ++k) {

@@ -190,7 +190,7 @@ TEST(Kernels, Objectives_MatchTheReferenceAndTheDirectSumOfSquaredGramEntries) {
       std::vector<double> Xr(g.ld * lk::kLanes), Xi(g.ld * lk::kLanes);
       lk::reference_kernels().rows_lanes(g, px, py, pz, Xr.data(), Xi.data());
       double f_ref[lk::kLanes];
-      lk::reference_kernels().objectives_lanes(G, o_r, o_i, F_A, Xr.data(), Xi.data(), f_ref);
+      lk::reference_kernels().objectives_lanes(G, o_r, o_i, Xr.data(), Xi.data(), f_ref);
       // The reference itself against f = sum_{l != k} |B_lk|^2 of the Gram matrix with the row
       // replaced, in long double (lane 0).
       {
@@ -222,7 +222,7 @@ TEST(Kernels, Objectives_MatchTheReferenceAndTheDirectSumOfSquaredGramEntries) {
         const std::string isa = lp::to_string(k->isa);
         EXPECT_NEAR(k->leave_one_out_energy(G, o_r, o_i), F_A, 1e-13 * scale) << isa;
         double f[lk::kLanes];
-        k->objectives_lanes(G, o_r, o_i, F_A, Xr.data(), Xi.data(), f);
+        k->objectives_lanes(G, o_r, o_i, Xr.data(), Xi.data(), f);
         for (int p = 0; p < lk::kLanes; ++p) {
           EXPECT_NEAR(f[p], f_ref[p], 1e-13 * scale) << isa << " lane " << p;
           const double q[3] = {px[p], py[p], pz[p]};
@@ -397,7 +397,7 @@ TEST(Kernels, EveryBuild_GivesTheSameBits) {
       k->rows_lanes(g, px, py, pz, Xr.data(), Xi.data());
       k->row(g, q, xr.data(), xi.data());
       const double F_A = k->leave_one_out_energy(G, s.row_re(2), s.row_im(2));
-      k->objectives_lanes(G, s.row_re(2), s.row_im(2), F_A, Xr.data(), Xi.data(), f.data());
+      k->objectives_lanes(G, s.row_re(2), s.row_im(2), Xr.data(), Xi.data(), f.data());
       double grad[3];
       const double fg = k->gradient(g, G, s.row_re(2), s.row_im(2), F_A, q, grad);
       std::vector<double> yr(g.ld), yi(g.ld), z(16 * 9), gr = s.gr, gi = s.gi;

@@ -75,9 +75,10 @@ struct Kernels {
                      double* Xr, double* Xi);
   // F_A = sum_{l != k} |A_lk|^2 for the row o = (or_, oi).
   double (*leave_one_out_energy)(const GramPlanes& G, const double* or_, const double* oi);
-  // f of each of the kLanes rows of (Xr, Xi) in place of o (the triangle form above).
-  void (*objectives_lanes)(const GramPlanes& G, const double* or_, const double* oi, double F_A,
-                           const double* Xr, const double* Xi, double* f);
+  // f of each of the kLanes rows of (Xr, Xi) in place of o (the triangle form above, F_A from
+  // the same pass over M's triangle).
+  void (*objectives_lanes)(const GramPlanes& G, const double* or_, const double* oi, const double* Xr,
+                           const double* Xi, double* f);
   // f of one row x in place of o (the full Hermitian form, one matrix-vector product).
   double (*objective_of_row)(const GramPlanes& G, const double* or_, const double* oi, double F_A,
                              const double* xr, const double* xi);
