@@ -1,4 +1,4 @@
-// losmimo-experiment: Monte Carlo reproduction of the paper's Figs 1-3 (see README).
+// losmimo-experiment: Monte Carlo reproduction of the paper's Figs 1-3 (docs/experiment.md).
 //   losmimo-experiment [--config ...] [--set ...] [--out DIR]      everything, one process
 //   losmimo-experiment --shard i/N --out DIR_i ...                 one slice of the jobs
 //   losmimo-experiment merge DIR_0 ... DIR_N-1 --out DIR           shards -> one result

@@ -1,4 +1,4 @@
-// losmimo-record: one closed-loop mission logged as an MRPT rawlog (rawlog_recorder.h).
+// losmimo-record: one closed-loop mission logged as an MRPT rawlog (rawlog/recorder.h).
 // Exit codes: 0 ok, 1 runtime failure, 2 bad input, 3 the run was ended by a fault (an
 // unresponsive UAV or a numerical fault; the reason is printed, the rawlog is kept).
 #include <CLI/CLI.hpp>

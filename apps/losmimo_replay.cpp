@@ -1,4 +1,4 @@
-// losmimo-replay: a rawlog's sensor stream through an estimator, offline (rawlog_replay.h).
+// losmimo-replay: a rawlog's sensor stream through an estimator, offline (rawlog/replay.h).
 // Exit codes: 0 complete log replayed, 1 runtime failure or truncated/corrupt log (its readable
 // prefix replayed), 2 bad input, 3 complete log of a run that was ended by a fault (the status
 // and the reason from the log are printed; everything up to the fault is replayed).

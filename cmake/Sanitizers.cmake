@@ -1,4 +1,4 @@
-# Sanitizer and fuzzing builds (issue 8). Included by the top-level CMakeLists before any
+# Sanitizer and fuzzing builds. Included by the top-level CMakeLists before any
 # add_subdirectory, so the flags reach every losmimo target: libraries, apps, tests, benchmarks.
 # (Directory-scoped add_compile_options / add_link_options, not CMAKE_CXX_FLAGS edits.)
 #

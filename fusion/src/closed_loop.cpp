@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "losmimo/common/field_error.h"
 #include "losmimo/localization/beacon_model.h"
 #include "losmimo/localization/robustness.h"
 
@@ -26,7 +27,7 @@ std::uint64_t derive_seed(std::uint64_t run_seed, Stream stream, int uav) {
 [[noreturn]] void fail(const std::string& field, double value, const std::string& rule) {
   std::ostringstream msg;
   msg << "closed_loop." << field << " = " << value << ": must be " << rule;
-  throw std::invalid_argument(msg.str());
+  throw common::FieldError(field, msg.str());
 }
 
 // BruteForcePlanner::step_uav's probe directions (bf.cpp), for the observer's commanded move.
@@ -83,9 +84,10 @@ int ClosedLoopStats::rejected_measurements() const {
 }
 
 void validate(const ClosedLoopConfig& config) {
-  localization::validate(config.filter);
-  localization::validate(config.simulator);
-  validate(config.refinement);
+  // The truth first: a bad true noise is reported as such, not as the filter's copy of it.
+  common::with_field_prefix("simulator", [&] { localization::validate(config.simulator); });
+  common::with_field_prefix("filter", [&] { localization::validate(config.filter); });
+  common::with_field_prefix("refinement", [&] { validate(config.refinement); });
   if (config.unresponsive_after_iterations < 1 || config.unresponsive_after_iterations > 1000) {
     fail("unresponsive_after_iterations", config.unresponsive_after_iterations, "in [1, 1000]");
   }
@@ -96,9 +98,9 @@ void validate(const ClosedLoopConfig& config) {
     if (f.from_iteration < 1) fail(field + ".from_iteration", f.from_iteration, ">= 1");
     if (f.num_iterations < 0) fail(field + ".num_iterations", f.num_iterations, ">= 0");
     if (f.kind == UavFaultKind::kNanCsi && !(config.refine && config.refinement.use_csi)) {
-      throw std::invalid_argument("closed_loop." + field +
-                                  " = nan_csi: needs refine = true and use_csi = true (no CSI is "
-                                  "measured otherwise)");
+      throw common::FieldError(field, "closed_loop." + field +
+                                          " = nan_csi: needs refine = true and use_csi = true (no CSI "
+                                          "is measured otherwise)");
     }
   }
   for (std::size_t i = 0; i < config.outages.size(); ++i) {

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "losmimo/common/field_error.h"
 #include "losmimo/fusion/cost_functors.h"
 
 namespace losmimo::fusion {
@@ -18,7 +19,7 @@ template <typename V>
 [[noreturn]] void bad_field(const char* field, const V& value, const char* requirement) {
   std::ostringstream msg;
   msg << "refinement." << field << " = " << value << ": " << requirement;
-  throw std::invalid_argument(msg.str());
+  throw common::FieldError(field, msg.str());
 }
 
 bool positive_finite(double v) { return v > 0.0 && std::isfinite(v); }

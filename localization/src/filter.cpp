@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "losmimo/common/field_error.h"
 #include "losmimo/localization/ekf_filter.h"
 #include "losmimo/localization/particle_filter.h"
 
@@ -16,7 +17,7 @@ namespace {
 [[noreturn]] void fail(const std::string& field, double value, const std::string& rule) {
   std::ostringstream msg;
   msg << "localization: " << field << " = " << value << " (must be " << rule << ")";
-  throw std::invalid_argument(msg.str());
+  throw common::FieldError(field, msg.str());
 }
 
 void require_finite_non_negative(const std::string& field, double value) {

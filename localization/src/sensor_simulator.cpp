@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "losmimo/common/field_error.h"
 #include "losmimo/localization/beacon_model.h"
 
 namespace losmimo::localization {
@@ -15,7 +16,7 @@ namespace {
   std::ostringstream msg;
   msg << "localization: SimulatorConfig." << field << " = " << value << " (must be " << rule
       << ")";
-  throw std::invalid_argument(msg.str());
+  throw common::FieldError(field, msg.str());
 }
 
 void require_sigma(const std::string& field, double value) {

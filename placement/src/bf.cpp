@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "losmimo/common/field_error.h"
+
 namespace losmimo::placement {
 
 namespace {
@@ -12,9 +14,9 @@ void require_in(const char* field, double value, double lo, double hi, bool lo_o
   const bool ok = std::isfinite(value) && (lo_open ? value > lo : value >= lo) && value <= hi;
   if (!ok) {
     std::ostringstream msg;
-    msg << field << " = " << value << ": must be in " << (lo_open ? "(" : "[") << lo << ", " << hi
-        << "]";
-    throw std::invalid_argument(msg.str());
+    msg << "bf." << field << " = " << value << ": must be in " << (lo_open ? "(" : "[") << lo << ", "
+        << hi << "]";
+    throw common::FieldError(field, msg.str());
   }
 }
 
@@ -31,13 +33,13 @@ double probe(Swarm& swarm, const UavObjective& view, int m, const Eigen::Vector3
 }  // namespace
 
 void validate(const BfOptions& o) {
-  require_in("bf.step", o.step, 0.0, 1e6, true);
-  require_in("bf.decay", o.decay, 0.0, 1.0, true);
-  require_in("bf.contraction", o.contraction, 0.0, 1.0, true);
-  require_in("bf.min_step_m", o.min_step_m, 0.0, 1e6, true);
-  require_in("bf.stall_min_decrease", o.stall_min_decrease, 0.0, 1.0, true);
+  require_in("step", o.step, 0.0, 1e6, true);
+  require_in("decay", o.decay, 0.0, 1.0, true);
+  require_in("contraction", o.contraction, 0.0, 1.0, true);
+  require_in("min_step_m", o.min_step_m, 0.0, 1e6, true);
+  require_in("stall_min_decrease", o.stall_min_decrease, 0.0, 1.0, true);
   if (o.stall_window < 1 || o.stall_window > 100000)
-    throw std::invalid_argument("bf.stall_window = " + std::to_string(o.stall_window) +
+    throw common::FieldError("stall_window", "bf.stall_window = " + std::to_string(o.stall_window) +
                                 ": must be in [1, 100000]");
 }
 

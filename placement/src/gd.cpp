@@ -4,39 +4,41 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "losmimo/common/field_error.h"
+
 namespace losmimo::placement {
 
 namespace {
 void require_positive(const char* field, double value) {
   if (!(value > 0.0) || !std::isfinite(value)) {
     std::ostringstream msg;
-    msg << field << " = " << value << ": must be a finite positive number";
-    throw std::invalid_argument(msg.str());
+    msg << "gd." << field << " = " << value << ": must be a finite positive number";
+    throw common::FieldError(field, msg.str());
   }
 }
 }  // namespace
 
 void validate(const GdOptions& o) {
-  require_positive("gd.step", o.step);
-  require_positive("gd.max_move_m", o.max_move_m);
+  require_positive("step", o.step);
+  require_positive("max_move_m", o.max_move_m);
   if (!(o.decay > 0.0 && o.decay <= 1.0)) {
     std::ostringstream msg;
     msg << "gd.decay = " << o.decay << ": must be in (0, 1]";
-    throw std::invalid_argument(msg.str());
+    throw common::FieldError("decay", msg.str());
   }
-  require_positive("gd.stall_min_decrease", o.stall_min_decrease);
-  require_positive("gd.depth_step_gain", o.depth_step_gain);
+  require_positive("stall_min_decrease", o.stall_min_decrease);
+  require_positive("depth_step_gain", o.depth_step_gain);
   if (o.stall_window < 1 || o.stall_window > 100000)
-    throw std::invalid_argument("gd.stall_window = " + std::to_string(o.stall_window) +
+    throw common::FieldError("stall_window", "gd.stall_window = " + std::to_string(o.stall_window) +
                                 ": must be in [1, 100000]");
   if (o.escape_half_grid < 1 || o.escape_half_grid > 256)
-    throw std::invalid_argument("gd.escape_half_grid = " + std::to_string(o.escape_half_grid) +
+    throw common::FieldError("escape_half_grid", "gd.escape_half_grid = " + std::to_string(o.escape_half_grid) +
                                 ": must be in [1, 256]");
   if (o.escape_uavs < 1 || o.escape_uavs > 100000)
-    throw std::invalid_argument("gd.escape_uavs = " + std::to_string(o.escape_uavs) +
+    throw common::FieldError("escape_uavs", "gd.escape_uavs = " + std::to_string(o.escape_uavs) +
                                 ": must be in [1, 100000]");
   if (o.max_halvings < 0 || o.max_halvings > 60)
-    throw std::invalid_argument("gd.max_halvings = " + std::to_string(o.max_halvings) +
+    throw common::FieldError("max_halvings", "gd.max_halvings = " + std::to_string(o.max_halvings) +
                                 ": must be in [0, 60]");
 }
 

@@ -54,10 +54,10 @@ Eigen::Matrix3Xd parse_positions_csv(std::istream& in, const std::string& origin
     Eigen::Vector3d q;
     for (int i = 0; i < 3; ++i) {
       const std::string field_where = where + ": field " + kFieldNames[i];
-      q(i) = common::parse_double(fields[i], field_where);
+      q(i) = common::parse_double(fields[i], field_where, kFieldNames[i]);
       // Beyond this, distances overflow (|q| ~ 1e154 m) or phases lose all precision.
       if (!(std::abs(q(i)) <= kMaxAbsCoordinate_m)) {
-        throw common::InputError(field_where + ": " + strip(fields[i]) + " is out of range [-1e9, 1e9] m");
+        throw common::InputError(field_where + ": " + strip(fields[i]) + " is out of range [-1e9, 1e9] m", kFieldNames[i]);
       }
     }
     rows.push_back(q);

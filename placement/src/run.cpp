@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "losmimo/common/field_error.h"
 #include "losmimo/placement/metrics.h"
 
 namespace losmimo::placement {
@@ -17,15 +18,15 @@ void validate(const RunOptions& o) {
   if (!(o.target_icn > 0.0 && o.target_icn <= 1.0)) {
     std::ostringstream msg;
     msg << "placement.target_icn = " << o.target_icn << ": must be in (0, 1]";
-    throw std::invalid_argument(msg.str());
+    throw common::FieldError("target_icn", msg.str());
   }
   if (!(o.noise_variance > 0.0) || !std::isfinite(o.noise_variance)) {
     std::ostringstream msg;
     msg << "noise variance = " << o.noise_variance << ": must be a finite positive number";
-    throw std::invalid_argument(msg.str());
+    throw common::FieldError("noise_variance", msg.str());
   }
   if (o.max_iterations < 0 || o.max_iterations > 10'000'000) {
-    throw std::invalid_argument("placement.max_iterations = " + std::to_string(o.max_iterations) +
+    throw common::FieldError("max_iterations", "placement.max_iterations = " + std::to_string(o.max_iterations) +
                                 ": must be in [0, 10000000]");
   }
 }

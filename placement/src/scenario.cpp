@@ -4,6 +4,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "losmimo/common/field_error.h"
+
 namespace losmimo::placement {
 
 std::string to_string(GainModel model) {
@@ -27,7 +29,7 @@ template <typename T>
 [[noreturn]] void bad_field(const char* field, const T& value, const char* requirement) {
   std::ostringstream msg;
   msg << "scenario." << field << " = " << value << ": " << requirement;
-  throw std::invalid_argument(msg.str());
+  throw common::FieldError(field, msg.str());
 }
 }  // namespace
 

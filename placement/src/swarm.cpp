@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "losmimo/common/field_error.h"
+
 namespace losmimo::placement {
 
 void validate(const ErrorModel& errors) {
@@ -12,7 +14,7 @@ void validate(const ErrorModel& errors) {
     if (!(value >= 0.0 && value <= kMaxErrorSigma_m)) {
       std::ostringstream msg;
       msg << "errors." << field << " = " << value << ": must be in [0, 1e3] m";
-      throw std::invalid_argument(msg.str());
+      throw common::FieldError(field, msg.str());
     }
   };
   check("sigma_loc_m", errors.sigma_loc_m);

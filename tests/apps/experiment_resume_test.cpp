@@ -1,4 +1,4 @@
-// --resume (issue 8): a run killed with SIGKILL mid-sweep, resumed, gives byte-identical
+// --resume: a run killed with SIGKILL mid-sweep, resumed, gives byte-identical
 // results to an uninterrupted run; a resume with another config stops with exit code 2.
 // Runs the real losmimo-experiment binary.
 #include <gtest/gtest.h>

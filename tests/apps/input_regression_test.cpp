@@ -1,4 +1,4 @@
-// Regressions for bad inputs found by fuzzing and review (issue 8; README "Reliability").
+// Regressions for bad inputs found by fuzzing and review (docs/reliability.md).
 // Each input here used to be accepted and give NaN / garbage results, or an error that did not
 // name the key. Now: InputError naming the file, line, key or field and the value.
 

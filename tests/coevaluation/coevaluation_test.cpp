@@ -75,7 +75,7 @@ losmimo::apps::ExperimentOptions tiny(const std::string& out, int threads) {
                  "experiment.plots=false",
                  "placement.max_iterations=150",
                  "coevaluation.beacon_noise_values_m=0, 0.18",
-                 "coevaluation.pf_particles=200",
+                 "closed_loop.num_particles=200",
                  "coevaluation.outage_values=0, 4"};
   return o;
 }
@@ -173,10 +173,16 @@ TEST(CoevaluationApp, BadCoevaluationKeyOrValue_Exit2NamingTheKeyBeforeAnyWork) 
       {"coevaluation.outage_algorithms=bf", {"[coevaluation] outage_algorithms", "bf"}},
       {"coevaluation.beacon_noise_values_m=0, -0.1", {"[coevaluation] beacon_noise_values_m", "-0.1"}},
       {"coevaluation.beacon_noise_values_m=0, abc", {"[coevaluation] beacon_noise_values_m", "abc"}},
-      {"coevaluation.sigma_range_m=-1", {"[coevaluation] sigma_range_m", "-1"}},
-      {"coevaluation.dr_sigma_floor_m=0", {"[coevaluation] dr_sigma_floor_m", "0"}},
-      {"coevaluation.pf_particles=3", {"[coevaluation] pf_particles", "3"}},
-      {"coevaluation.refine_window_epochs=0", {"[coevaluation] refine_window_epochs", "0"}},
+      {"closed_loop.beacon_sigma_range_m=-1", {"[closed_loop] beacon_sigma_range_m", "-1"}},
+      {"closed_loop.dr_sigma_floor_m=0", {"[closed_loop] dr_sigma_floor_m", "0"}},
+      {"closed_loop.num_particles=0", {"[closed_loop] num_particles", "0"}},
+      {"closed_loop.window_epochs=0", {"[closed_loop] window_epochs", "0"}},
+      {"closed_loop.filter=pf", {"[closed_loop] filter", "unknown key"}},  // set per algorithm
+      // The old spellings of the shared [closed_loop] settings name the key to use.
+      {"coevaluation.sigma_range_m=0.1", {"[coevaluation] sigma_range_m", "[closed_loop] beacon_sigma_range_m"}},
+      {"coevaluation.pf_particles=200", {"[coevaluation] pf_particles", "[closed_loop] num_particles"}},
+      {"coevaluation.refine_window_epochs=5", {"[coevaluation] refine_window_epochs", "[closed_loop] window_epochs"}},
+      {"coevaluation.refine_use_csi=true", {"[coevaluation] refine_use_csi", "[closed_loop] use_csi"}},
       {"coevaluation.ura_variant=hexagonal", {"[coevaluation] ura_variant", "hexagonal"}},
       {"coevaluation.outage_values=0, 17", {"[coevaluation] outage_values", "17"}},
       {"coevaluation.outage_degraded_after_epochs=0", {"[coevaluation] outage_degraded_after_epochs", "0"}},

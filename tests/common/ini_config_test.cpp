@@ -4,19 +4,9 @@
 #include <vector>
 
 #include "losmimo/common/ini_config.h"
+#include "support/input_error.h"
 
-namespace {
-// Runs f, expecting an InputError whose message contains every fragment.
-template <typename F>
-void expect_input_error(F&& f, const std::vector<std::string>& fragments) {
-  try {
-    f();
-    FAIL() << "no InputError";
-  } catch (const losmimo::common::InputError& e) {
-    for (const auto& frag : fragments) EXPECT_NE(std::string(e.what()).find(frag), std::string::npos) << e.what();
-  }
-}
-}  // namespace
+using losmimo::test_support::expect_input_error;
 
 TEST(IniConfig, ParsesSectionsKeysAndComments) {
   const auto cfg = losmimo::common::IniConfig::from_string("# top\n[scenario]\nsnr_db = 7.5 ; trailing\n\n[errors]\nsigma_loc_m=0.1\n");
@@ -31,4 +21,27 @@ TEST(IniConfig, MalformedLines_NameTheLine) {
   expect_input_error([] { losmimo::common::IniConfig::from_string("[s]\nk=1\nk=2\n", "c.ini"); }, {"c.ini:3", "duplicate"});
   expect_input_error([] { losmimo::common::IniConfig::from_string("[scen\n", "d.ini"); }, {"d.ini:1"});
   expect_input_error([] { losmimo::common::IniConfig::from_file("/nonexistent/x.ini"); }, {"/nonexistent/x.ini", "cannot open"});
+}
+
+TEST(IniConfig, ErrorsAboutAKey_CarryTheKeyAsTheirField) {
+  const auto cfg = losmimo::common::IniConfig::from_string("[scenario]\nsnr_db = 10dB\n[foo]\nx = 1\n", "f.ini");
+  try {
+    cfg.get_double("scenario", "snr_db", 0.0);
+    FAIL() << "accepted";
+  } catch (const losmimo::common::InputError& e) {
+    EXPECT_EQ(e.field(), "[scenario] snr_db");
+    EXPECT_NE(std::string(e.what()).find("f.ini:2"), std::string::npos) << e.what();
+  }
+  try {
+    cfg.require_known({{"scenario", {"snr_db"}}});
+    FAIL() << "accepted";
+  } catch (const losmimo::common::InputError& e) {
+    EXPECT_EQ(e.field(), "[foo]");
+  }
+  try {
+    losmimo::common::IniConfig::from_string("[s\n", "g.ini");
+    FAIL() << "accepted";
+  } catch (const losmimo::common::InputError& e) {
+    EXPECT_EQ(e.field(), "") << "a malformed line is not about one field";
+  }
 }

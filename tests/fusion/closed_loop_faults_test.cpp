@@ -1,4 +1,4 @@
-// Faults in the closed loop (issue 8): an unresponsive UAV is found by the master and ends the
+// Faults in the closed loop: an unresponsive UAV is found by the master and ends the
 // run with kUavUnresponsive; NaN beacons, displacements and CSI rows are dropped before the
 // filter, the refinement and placement, and so are implausible beacons (beyond
 // max_beacon_range_m); a non-finite filter state ends the run with

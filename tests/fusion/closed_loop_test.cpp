@@ -1,4 +1,4 @@
-// The closed loop of issue 5: GD placement on filtered beliefs, BF fallback when a belief is
+// The closed loop: GD placement on filtered beliefs, BF fallback when a belief is
 // degraded. Paper scenario (16 UAVs, 4 x 4 BS, 1 km), actuation error 0.02 m. Seeded, never
 // retried.
 #include <gtest/gtest.h>

@@ -94,7 +94,7 @@ TEST(CsiReferencePhase, Noiseless_ExplainsEveryEntry) {
 }
 
 TEST(CsiPhase, LateralMotion_TurnsEdgeToEdgePhaseAboutOneRadianPerMetre) {
-  // Issue 5: ~1 rad per metre across the 0.75 m aperture at 1 km, 60 GHz; depth: far less.
+  // ~1 rad per metre across the 0.75 m aperture at 1 km, 60 GHz; depth: far less.
   const placement::ChannelModel model(default_scenario());
   const Eigen::Vector3d q_m(1000.0, 0.0, 0.0);
   const int left = 0, right = 3;  // row 0, columns 0 and 3: 0.75 m apart along y

@@ -1,4 +1,4 @@
-// The refinement closing the loop on localization's own EKF and sensor simulator (issue 5:
+// The refinement closing the loop on localization's own EKF and sensor simulator (
 // "refinement reduces lateral RMSE versus the filter alone"). Seeded, never retried.
 #include <gtest/gtest.h>
 

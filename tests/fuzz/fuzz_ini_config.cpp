@@ -1,4 +1,4 @@
-// libFuzzer target: the INI config loader (issue 8).
+// libFuzzer target: the INI config loader.
 //
 // Input: INI text, as `--config FILE` gives it to both apps. It goes through what the apps do
 // with a config: IniConfig::from_string, require_known, load_placement_settings and
@@ -42,10 +42,10 @@ void load_all(const losmimo::common::IniConfig& cfg) {
   try {
     const losmimo::experiment::ExperimentSettings s = losmimo::experiment::load_experiment_settings(cfg);
     check_usable(s.placement.scenario);
-    const std::string ini = lp::to_ini(s);
+    const std::string ini = losmimo::experiment::to_ini(s);
     const losmimo::experiment::ExperimentSettings again =
         losmimo::experiment::load_experiment_settings(losmimo::common::IniConfig::from_string(ini, "<to_ini>"));
-    require(lp::to_ini(again) == ini);
+    require(losmimo::experiment::to_ini(again) == ini);
   } catch (const losmimo::common::InputError&) {
   }
 }

@@ -1,14 +1,14 @@
-// libFuzzer target: the positions CSV reader and `losmimo-eval` (issue 8).
+// libFuzzer target: the positions CSV reader and `losmimo-eval`.
 //
 // Input: a positions CSV. It is parsed by parse_positions_csv and, as a file, evaluated by
-// run_eval (read_positions_csv + channel + metrics + CSV output), the whole `losmimo-eval` path,
+// run_eval_app (read_positions_csv + channel + metrics + CSV output), the whole `losmimo-eval` path,
 // on a 2 x 2 BS (`--set scenario.bs_rows=2 --set scenario.bs_cols=2`: the same code, and
 // ~10x more executions per second than the 16-antenna default).
 // Properties (a violation traps, so libFuzzer reports it as a crash):
 //   - bad input throws InputError (parse) or returns exit code 2 with a message; any other
 //     exception escapes and aborts;
 //   - accepted positions are finite, at most max_rows of them;
-//   - run_eval returns 0 or 2; on 0 it prints every expected line and no "nan".
+//   - run_eval_app returns 0 or 2; on 0 it prints every expected line and no "nan".
 
 #include <unistd.h>
 

@@ -1,4 +1,4 @@
-// libFuzzer target: the rawlog reader (issue 8).
+// libFuzzer target: the rawlog reader.
 //
 // Input: rawlog bytes, gzip or plain (the reader takes both), as `losmimo-replay --strict FILE`
 // reads them: the bounded object-by-object RawlogReader in strict mode (every object's lengths
@@ -19,7 +19,7 @@
 #include "losmimo/rawlog/reader.h"
 #include "losmimo/common/input_error.h"
 
-namespace lf = losmimo::fusion;
+namespace lf = losmimo::rawlog;
 
 namespace {
 void require(bool ok) {

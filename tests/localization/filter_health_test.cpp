@@ -1,4 +1,4 @@
-// Numerical health of the filters (issue 8): health_problem() names the first non-finite or
+// Numerical health of the filters: health_problem() names the first non-finite or
 // inconsistent part of a belief, and a filter whose state became non-finite says so. The
 // plausibility screen (FilterConfig::max_beacon_range_m) keeps absurd but finite beacons from
 // getting there through the reset rule, in both filters.

@@ -1,22 +1,12 @@
 #include <gtest/gtest.h>
 
 #include "losmimo/common/ini_config.h"
+#include "support/input_error.h"
 #include "losmimo/placement/settings.h"
 
 namespace lp = losmimo::placement;
 
-namespace {
-// Runs f, expecting an InputError whose message contains every fragment.
-template <typename F>
-void expect_input_error(F&& f, const std::vector<std::string>& fragments) {
-  try {
-    f();
-    FAIL() << "no InputError";
-  } catch (const losmimo::common::InputError& e) {
-    for (const auto& frag : fragments) EXPECT_NE(std::string(e.what()).find(frag), std::string::npos) << e.what();
-  }
-}
-}  // namespace
+using losmimo::test_support::expect_input_error;
 
 TEST(PlacementSettings, UnknownKey_IsRejectedWithItsLine) {
   const auto cfg = losmimo::common::IniConfig::from_string("[scenario]\nsnr_db = 10\nsnr_dB = 3\n", "e.ini");

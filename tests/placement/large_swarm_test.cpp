@@ -1,4 +1,4 @@
-// Large swarms (issue 7, "Speed and scale"): the exact lattice URA on 8 x 8 and 16 x 16 BS
+// Large swarms (docs/performance.md): the exact lattice URA on 8 x 8 and 16 x 16 BS
 // arrays, the GD escape options for large arrays, and that every default keeps the paper-setup
 // behaviour.
 
@@ -160,7 +160,7 @@ TEST(UraLatticeExact, Array8x8_64Uavs_ReachesTheTargetInOneIteration) {
 }
 
 TEST(UraLatticeExact, Array16x16_256Uavs_ReachesTheTargetWhereTheParaxialLatticeDoesNot) {
-  // GIVEN: the README's 256-UAV case (BS 16 x 16, 60 GHz, 0.25 m, 50 m cube at 1 km)
+  // GIVEN: the documented 256-UAV case (BS 16 x 16, 60 GHz, 0.25 m, 50 m cube at 1 km)
   const lp::Scenario s = square_array(16);
   const UraOutcome paraxial = run_ura(s, lp::UraVariant::kLattice, 7);
   const UraOutcome exact = run_ura(s, lp::UraVariant::kLatticeExact, 7);

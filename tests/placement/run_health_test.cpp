@@ -1,4 +1,4 @@
-// Numerical health of a placement run (issue 8): run_placement ends with kNumericalFault,
+// Numerical health of a placement run: run_placement ends with kNumericalFault,
 // naming the UAV and the quantity, as soon as a move, a position, a channel row or the Gram
 // matrix is non-finite; a planner can end the run with its own fault (Planner::fault).
 #include <gtest/gtest.h>

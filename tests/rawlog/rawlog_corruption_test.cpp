@@ -1,4 +1,4 @@
-// Bad rawlogs (issue 6): truncated at many offsets, random bytes corrupted (seeded), a corrupted
+// Bad rawlogs: truncated at many offsets, random bytes corrupted (seeded), a corrupted
 // length field, and a foreign rawlog with types the replay cannot use. Each case: a clear
 // report, the readable prefix processed, no crash, no hang, no large allocation.
 #include <gtest/gtest.h>
@@ -26,7 +26,7 @@
 namespace losmimo::rawlog {
 namespace {
 
-using test_support::read_file_bytes;
+using test_support::read_file;
 using test_support::small_mission;
 using test_support::temp_path;
 using Clock = std::chrono::steady_clock;
@@ -43,7 +43,7 @@ const Recorded& recorded() {
     Recorded out;
     const std::string path = temp_path("corruption_base.rawlog");
     const RecordResult rec = record_mission(small_mission("ekf", false), {path, 6, {}});
-    out.gz = read_file_bytes(path);
+    out.gz = read_file(path);
     out.objects = rec.objects;
     out.epochs = rec.epochs;
     gzFile f = gzopen(path.c_str(), "rb");

@@ -1,4 +1,4 @@
-// END_OF_LOG's run status and fault (rawlog_log.h): a log of a run ended by a fault, its
+// END_OF_LOG's run status and fault (log.h): a log of a run ended by a fault, its
 // END_OF_LOG rewritten (a consistent text_digest, so only the reader's field checks can object):
 // a log written before the reason was logged, bad fields named with their values, and a reason
 // with commas quoted in summary.csv.
@@ -28,7 +28,7 @@ namespace losmimo::rawlog {
 namespace {
 
 using test_support::contains;
-using test_support::read_file_bytes;
+using test_support::read_file;
 using test_support::small_mission;
 using test_support::temp_path;
 using test_support::write_file_bytes;
@@ -91,7 +91,7 @@ AppRun replay_app(const std::string& bytes, const std::string& name) {
   a.code = apps::run_replay_app({path, "", false, false, temp_path(name + "_out"), false}, out, err);
   a.out = out.str();
   a.err = err.str();
-  a.summary_csv = read_file_bytes(temp_path(name + "_out") + "/summary.csv");
+  a.summary_csv = read_file(temp_path(name + "_out") + "/summary.csv");
   return a;
 }
 

@@ -1,6 +1,6 @@
 // The real losmimo-record and losmimo-replay binaries on a mission whose UAV dies mid-mission:
 // record exits 3 and closes the log, replay reads it to the end within a deadline, prints the
-// status and the loop's reason, writes its outputs and exits 3 (rawlog_replay.h).
+// status and the loop's reason, writes its outputs and exits 3 (rawlog/replay.h).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -23,7 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
-using test_support::read_file_bytes;
+using test_support::read_file;
 using test_support::temp_path;
 using test_support::write_file_bytes;
 
@@ -59,21 +59,21 @@ TEST(ReplayApp, UavDeadMidMission_RecordAndReplayBinariesExit3WithTheReason) {
   write_file_bytes(ini, mission_to_ini(test_support::small_mission("ekf", false, "faults = unresponsive:2:4\n")));
   const std::string reason = "UAV 2: no measurement and no motion for 3 iterations (since iteration 4) at iteration 6";
   ASSERT_EQ(run_with_deadline({LOSMIMO_RECORD_APP, "--config", ini, "--out", rawlog}, dir + "/record.log"), 3)
-      << read_file_bytes(dir + "/record.log");
-  ASSERT_THAT(read_file_bytes(dir + "/record.log"), HasSubstr("run ended by a fault: " + reason));
+      << read_file(dir + "/record.log");
+  ASSERT_THAT(read_file(dir + "/record.log"), HasSubstr("run ended by a fault: " + reason));
   // WHEN
   const int code = run_with_deadline({LOSMIMO_REPLAY_APP, rawlog, "--out", dir + "/out"}, dir + "/replay.log");
   // THEN: no crash (128 + signal), no hang (kTimedOut): exit 3, status and reason printed.
-  const std::string log = read_file_bytes(dir + "/replay.log");
+  const std::string log = read_file(dir + "/replay.log");
   EXPECT_EQ(code, 3) << log;
   EXPECT_THAT(log, HasSubstr("complete = true\n"));
   EXPECT_THAT(log, HasSubstr("epochs = 6\n"));
   EXPECT_THAT(log, HasSubstr("status = uav_unresponsive\nfault_uav = 2\nfault = " + reason + "\n"));
   EXPECT_THAT(log, HasSubstr("the recorded run was ended by a fault (uav_unresponsive): " + reason));
   EXPECT_THAT(log, HasSubstr("filter_beliefs_bitwise_equal = 21/21\n"));  // 6 x 4 - 3 silent
-  EXPECT_THAT(read_file_bytes(dir + "/out/summary.csv"), HasSubstr("\nstatus,uav_unresponsive\n"));
+  EXPECT_THAT(read_file(dir + "/out/summary.csv"), HasSubstr("\nstatus,uav_unresponsive\n"));
   // 6 epochs x 4 UAVs plus the header.
-  const std::string estimates = read_file_bytes(dir + "/out/estimates.csv");
+  const std::string estimates = read_file(dir + "/out/estimates.csv");
   EXPECT_EQ(std::count(estimates.begin(), estimates.end(), '\n'), 1 + 6 * 4);
 }
 

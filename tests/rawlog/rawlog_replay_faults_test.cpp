@@ -1,4 +1,4 @@
-// losmimo-replay of missions with faults (issue 8 x issue 6): a UAV that dies mid-mission, a UAV
+// losmimo-replay of missions with faults: a UAV that dies mid-mission, a UAV
 // silent for two iterations, NaN beacons, a filter overflow part-way through an epoch. Each log
 // is replayed through replay_mission and apps::run_replay_app (what losmimo-replay calls) and checked
 // against the live closed loop run with the same config and seed (its observer), not against the
@@ -27,7 +27,7 @@ namespace {
 using test_support::contains;
 using test_support::load_log;
 using test_support::LoopRecorder;
-using test_support::read_file_bytes;
+using test_support::read_file;
 using test_support::small_mission;
 using test_support::temp_path;
 
@@ -97,7 +97,7 @@ AppRun replay_app(const std::string& path, const std::string& out_dir) {
   a.code = apps::run_replay_app({path, "", false, false, out_dir, false}, out, err);
   a.out = out.str();
   a.err = err.str();
-  a.summary_csv = read_file_bytes(out_dir + "/summary.csv");
+  a.summary_csv = read_file(out_dir + "/summary.csv");
   return a;
 }
 

@@ -1,4 +1,4 @@
-// losmimo-replay (issue 6): golden replays of the shipped missions, bit-for-bit reproduction of
+// losmimo-replay: golden replays of the shipped missions, bit-for-bit reproduction of
 // the recorded beliefs, co-evaluation with another estimator, the placement evaluation against
 // the run's own ICN trace, and a mission killed mid-way.
 #include <gtest/gtest.h>
@@ -16,7 +16,7 @@
 namespace losmimo::rawlog {
 namespace {
 
-using test_support::read_file_bytes;
+using test_support::read_file;
 using test_support::load_log;
 using test_support::small_mission;
 using test_support::source_path;
@@ -37,8 +37,8 @@ std::vector<std::vector<std::string>> csv_rows(const std::string& text) {
 // Numbers equal within a relative 1e-9 (nan == nan), text exactly.
 void expect_same_csv(const std::string& golden_path, const std::string& actual_path) {
   constexpr double kRelTol = 1e-9;
-  const auto golden = csv_rows(read_file_bytes(golden_path));
-  const auto actual = csv_rows(read_file_bytes(actual_path));
+  const auto golden = csv_rows(read_file(golden_path));
+  const auto actual = csv_rows(read_file(actual_path));
   ASSERT_FALSE(golden.empty()) << golden_path;
   ASSERT_EQ(golden.size(), actual.size()) << golden_path;
   int differences = 0;
@@ -194,7 +194,7 @@ TEST(RawlogReplay, App_ExitCodesAndOutputs) {
   EXPECT_EQ(apps::run_replay_app({nominal, "ukf", false, false, "", false}, out, err), 2);
   const std::string dir = temp_path("app_out");
   EXPECT_EQ(apps::run_replay_app({nominal, "pf", false, false, dir, false}, out, err), 0) << err.str();
-  EXPECT_FALSE(read_file_bytes(dir + "/summary.csv").empty());
+  EXPECT_FALSE(read_file(dir + "/summary.csv").empty());
   EXPECT_NE(out.str().find("rmse_m"), std::string::npos);
 }
 

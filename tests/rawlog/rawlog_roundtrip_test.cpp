@@ -1,4 +1,4 @@
-// Recorder -> reader round trip (issue 6): every value the recorder writes reads back equal to
+// Recorder -> reader round trip: every value the recorder writes reads back equal to
 // what the closed loop produced (captured independently by an observer on an identical run),
 // the integrity marks verify, and the stock rawlog-edit counts what we wrote.
 #include <gtest/gtest.h>
@@ -136,7 +136,7 @@ TEST(RawlogRoundTrip, EveryObservationReadsBackEqualToWhatTheLoopProduced) {
         ASSERT_TRUE(pose);
         EXPECT_TRUE(same_bits(b.mean_m, pose->pose.mean));
         // The refined covariance of two runs differs in the last bits (ceres::Covariance orders
-        // parameter blocks by heap address, rawlog_replay.h); the filter's is bit for bit. The
+        // parameter blocks by heap address, rawlog/replay.h); the filter's is bit for bit. The
         // log keeps the upper triangle (CPose3DPDFGaussian).
         for (int i = 0; i < 3; ++i)
           for (int j = i; j < 3; ++j) {

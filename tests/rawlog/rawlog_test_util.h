@@ -9,6 +9,7 @@
 #include "losmimo/common/ini_config.h"
 #include "losmimo/rawlog/log.h"
 #include "losmimo/rawlog/mission.h"
+#include "support/files.h"
 
 namespace losmimo::test_support {
 
@@ -36,11 +37,6 @@ inline std::string temp_path(const std::string& name) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "losmimo_rawlog_tests";
   std::filesystem::create_directories(dir);
   return (dir / name).string();
-}
-
-inline std::string read_file_bytes(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
 }
 
 inline void write_file_bytes(const std::string& path, const std::string& bytes) {

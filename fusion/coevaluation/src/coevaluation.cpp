@@ -33,10 +33,10 @@ constexpr int kCentralizedFlightSteps = 200;
 localization::SimulatorConfig simulator_config(const CoevaluationSettings& c, const placement::Scenario& scenario,
                                                double beacon_noise_m) {
   localization::SimulatorConfig sim;
-  sim.sigma_range_m = c.sigma_range_m;
+  sim.sigma_range_m = c.closed_loop.simulator.sigma_range_m;
   sim.sigma_angle_rad = beacon_noise_m / scenario.range_m();
-  sim.dr_sigma_floor_m = c.dr_sigma_floor_m;
-  sim.dr_sigma_fraction = c.dr_sigma_fraction;
+  sim.dr_sigma_floor_m = c.closed_loop.simulator.dr_sigma_floor_m;
+  sim.dr_sigma_fraction = c.closed_loop.simulator.dr_sigma_fraction;
   return sim;
 }
 
@@ -48,7 +48,7 @@ localization::FilterConfig filter_config(const CoevaluationSettings& c, const lo
   f.noise.sigma_angle_rad = std::max(sim.sigma_angle_rad, f.min_sigma_angle_rad);
   f.noise.dr_sigma_floor_m = sim.dr_sigma_floor_m;
   f.noise.dr_sigma_fraction = sim.dr_sigma_fraction;
-  f.num_particles = c.pf_particles;
+  f.num_particles = c.closed_loop.filter.num_particles;
   return f;
 }
 
@@ -203,8 +203,8 @@ fusion::ClosedLoopConfig coevaluation_closed_loop_config(const CoevaluationSetti
   config.filter_kind = a == CoevalAlgorithm::kGdPf ? localization::FilterKind::kParticle : localization::FilterKind::kEkf;
   config.refine = a == CoevalAlgorithm::kGdEkfCeres;
   config.refinement = fusion::refinement_config_from(config.filter.noise, scenario.noise_variance());
-  config.refinement.window_epochs = c.refine_window_epochs;
-  config.refinement.use_csi = c.refine_use_csi;
+  config.refinement.window_epochs = c.closed_loop.refinement.window_epochs;
+  config.refinement.use_csi = c.closed_loop.refinement.use_csi;
   config.fallback_to_bf = a != CoevalAlgorithm::kGdEkfNoFallback;
   return config;
 }

@@ -1,4 +1,4 @@
-// Figures and report sections of the co-evaluation (coevaluation_report.h).
+// Figures and report sections of the co-evaluation (report.h).
 #include "losmimo/coevaluation/report.h"
 
 #include <algorithm>
@@ -189,7 +189,7 @@ std::string beacon_noise_report_section(const experiment::ExperimentSettings& s,
   md << "## Co-evaluation: beacon noise (`beacon_noise_m`)\n\n"
      << "The swept value is the beacon-only cross-range error per axis at R = "
      << fmt(s.placement.scenario.range_m(), 0) << " m (beacon angle sigma = value / R; range sigma "
-     << fmt(c.sigma_range_m, 3) << " m). `gd_gauss` is the paper's GD with sigma_loc = value (same "
+     << fmt(c.closed_loop.simulator.sigma_range_m, 3) << " m). `gd_gauss` is the paper's GD with sigma_loc = value (same "
      << "per-axis lateral error as the beacon-only fix); the filters assume the true noise. "
      << "Actuation error sigma_act = " << fmt(s.placement.errors.sigma_act_m, 3) << " m. All algorithms "
      << "from the same " << s.trials << " starts per point with paired seeds; `centralized` is the Ceres "
@@ -244,7 +244,7 @@ std::string beacon_noise_report_section(const experiment::ExperimentSettings& s,
   md << "| paper's GD (Fig 2b, sigma_loc 0 → 0.18 m) | " << fmt(kPaperGdNv0_db, 1) << " | " << fmt(kPaperGdNv018_db, 1)
      << " | " << fmt(kPaperGdNv0_db - kPaperGdNv018_db, 1) << " | ±0.5 (plot reading) |\n\n"
      << "Half-widths combine the two points' CIs as if independent (conservative for paired trials).\n\n"
-     << "**Target** (issue 5): with Ceres CSI refinement, GD's final NV SINR at the largest beacon noise stays "
+     << "**Target**: with Ceres CSI refinement, GD's final NV SINR at the largest beacon noise stays "
      << "within " << fmt(kTargetLoss_db, 0) << " dB of its noise-free value. ";
   if (!have_ceres || v0 == vmax) {
     md << "Not evaluated: the sweep needs `gd_ekf_ceres` at two beacon noises.\n";

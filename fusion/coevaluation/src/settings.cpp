@@ -1,12 +1,14 @@
-// [coevaluation]: reading, validation and serialisation (coevaluation.h).
+// The co-evaluation's settings: its key table, reading, validation and serialisation
+// (coevaluation.h).
 #include <algorithm>
-#include <cmath>
-#include <sstream>
+#include <limits>
+#include <stdexcept>
+#include <utility>
 
 #include "losmimo/coevaluation/coevaluation.h"
-#include "losmimo/common/format.h"
 #include "losmimo/common/ini_config.h"
 #include "losmimo/common/input_error.h"
+#include "losmimo/fusion/closed_loop_settings.h"
 
 namespace losmimo::coevaluation {
 
@@ -30,41 +32,89 @@ std::string names(const CoevalAlgorithm* first, const CoevalAlgorithm* last) {
   return out;
 }
 
+// "a, b, ..." of the algorithms in `allowed`, each once, at least one.
 template <std::size_t N>
-std::vector<CoevalAlgorithm> parse_algorithms(const common::IniConfig& cfg, const std::string& key,
-                                              const CoevalAlgorithm (&allowed)[N],
-                                              const std::vector<CoevalAlgorithm>& fallback) {
-  if (!cfg.has(kSection, key)) return fallback;
-  const std::string where = cfg.where(kSection, key);
+std::vector<CoevalAlgorithm> parse_algorithms(const std::string& text, const std::string& where,
+                                              const CoevalAlgorithm (&allowed)[N]) {
   std::vector<CoevalAlgorithm> out;
-  for (const std::string& name : common::split_list(cfg.get_string(kSection, key, ""))) {
+  for (const std::string& name : split_list(text)) {
     const auto* it = std::find_if(std::begin(allowed), std::end(allowed),
                                   [&](CoevalAlgorithm a) { return to_string(a) == name; });
     if (it == std::end(allowed)) {
-      throw common::InputError(where + ": unknown algorithm '" + name + "' (known: " +
+      throw InputError(where + ": unknown algorithm '" + name + "' (known: " +
                        names(std::begin(allowed), std::end(allowed)) + ")");
     }
-    if (std::find(out.begin(), out.end(), *it) != out.end())
-      throw common::InputError(where + ": algorithm '" + name + "' listed twice");
+    if (std::find(out.begin(), out.end(), *it) != out.end()) {
+      throw InputError(where + ": algorithm '" + name + "' listed twice");
+    }
     out.push_back(*it);
   }
-  if (out.empty()) throw common::InputError(where + ": needs at least one algorithm");
+  if (out.empty()) throw InputError(where + ": needs at least one algorithm");
   return out;
 }
 
-double non_negative(const common::IniConfig& cfg, const std::string& key, double fallback, bool positive) {
-  const double v = cfg.get_double(kSection, key, fallback);
-  if (positive ? !(v > 0.0) : !(v >= 0.0)) {
-    throw common::InputError(cfg.where(kSection, key) + " = " + common::format_double(v) + ": must be " +
-                     (positive ? "> 0" : ">= 0"));
-  }
-  return v;
-}
-
-std::string join(const std::vector<double>& v) {
+std::string algorithm_list(const std::vector<CoevalAlgorithm>& algorithms) {
   std::string out;
-  for (double x : v) out += (out.empty() ? "" : ", ") + common::format_double(x);
+  for (const CoevalAlgorithm a : algorithms) out += (out.empty() ? "" : ", ") + to_string(a);
   return out;
+}
+
+// The [closed_loop] keys the co-evaluation reads, with the spellings [coevaluation] had for them.
+constexpr std::pair<const char*, const char*> kSharedClosedLoopKeys[] = {
+    {"beacon_sigma_range_m", "sigma_range_m"}, {"dr_sigma_floor_m", "dr_sigma_floor_m"},
+    {"dr_sigma_fraction", "dr_sigma_fraction"}, {"num_particles", "pf_particles"},
+    {"window_epochs", "refine_window_epochs"},  {"use_csi", "refine_use_csi"}};
+
+std::vector<common::Key<CoevaluationSettings>> coevaluation_key_list() {
+  using K = common::Key<CoevaluationSettings>;
+  std::vector<K> keys = {
+      K::real_list(kSection, "beacon_noise_values_m", &CoevaluationSettings::beacon_noise_values_m,
+                   common::Range::at_least(0.0), "beacon_noise_m sweep points [m]", "0, 0.05"),
+      K::text(kSection, "algorithms",
+              [](CoevaluationSettings& c, const std::string& text, const std::string& where) {
+                c.algorithms = parse_algorithms(text, where, kAll);
+              },
+              [](const CoevaluationSettings& c) { return algorithm_list(c.algorithms); },
+              "comma-separated: " + names(std::begin(kAll), std::end(kAll)), "beacon_noise_m's algorithms",
+              "gd_ekf, bf"),
+      K::text(kSection, "ura_variant",
+              [](CoevaluationSettings& c, const std::string& text, const std::string&) {
+                if (text == "rigid") {
+                  c.ura_variant = placement::UraVariant::kRigid;
+                } else if (text == "lattice") {
+                  c.ura_variant = placement::UraVariant::kLattice;
+                } else {
+                  throw std::invalid_argument("'" + text + "': must be rigid or lattice");
+                }
+              },
+              [](const CoevaluationSettings& c) {
+                return std::string(c.ura_variant == placement::UraVariant::kRigid ? "rigid" : "lattice");
+              },
+              "rigid | lattice", "ura_ekf's URA (placement/ura.h)", "lattice"),
+      K::integer_list(kSection, "outage_values", &CoevaluationSettings::outage_values, 0,
+                      std::numeric_limits<int>::max(), "beacon_outage sweep points: UAVs without beacon",
+                      "0, 1"),
+      K::text(kSection, "outage_algorithms",
+              [](CoevaluationSettings& c, const std::string& text, const std::string& where) {
+                c.outage_algorithms = parse_algorithms(text, where, kOutageAllowed);
+              },
+              [](const CoevaluationSettings& c) { return algorithm_list(c.outage_algorithms); },
+              "comma-separated: " + names(std::begin(kOutageAllowed), std::end(kOutageAllowed)),
+              "beacon_outage's algorithms", "gd_pf"),
+      K::integer(kSection, "outage_first_epoch", &CoevaluationSettings::outage_first_epoch, 0, 1'000'000,
+                 "first epoch without beacon", "3"),
+      K::integer(kSection, "outage_epochs", &CoevaluationSettings::outage_epochs, 0, 1'000'000,
+                 "epochs without beacon", "7"),
+      K::integer(kSection, "outage_degraded_after_epochs", &CoevaluationSettings::outage_degraded_after_epochs, 1,
+                 1'000'000, "the filter is degraded after this many epochs without beacon", "2"),
+      K::real(kSection, "outage_beacon_noise_m", &CoevaluationSettings::outage_beacon_noise_m,
+              common::Range::at_least(0.0), "beacon cross-range 1-sigma at R in the outage sweep [m]", "0.05"),
+  };
+  for (const auto& [key, old_key] : kSharedClosedLoopKeys) {
+    const common::Key<fusion::ClosedLoopConfig>& shared = fusion::closed_loop_keys().key("closed_loop", key);
+    keys.push_back(common::nested(shared, &CoevaluationSettings::closed_loop, "closed_loop"));
+  }
+  return keys;
 }
 
 }  // namespace
@@ -83,105 +133,47 @@ std::string to_string(CoevalAlgorithm a) {
   return "?";
 }
 
-std::map<std::string, std::set<std::string>> coevaluation_config_keys() {
-  return {{kSection,
-           {"beacon_noise_values_m", "algorithms", "sigma_range_m", "dr_sigma_floor_m", "dr_sigma_fraction",
-            "pf_particles", "refine_window_epochs", "refine_use_csi", "ura_variant", "outage_values",
-            "outage_algorithms", "outage_first_epoch", "outage_epochs", "outage_degraded_after_epochs",
-            "outage_beacon_noise_m"}}};
+const common::KeyTable<CoevaluationSettings>& coevaluation_keys() {
+  static const common::KeyTable<CoevaluationSettings> table = [] {
+    common::KeyTable<CoevaluationSettings> t(coevaluation_key_list());
+    for (const auto& [key, old_key] : kSharedClosedLoopKeys) t.renamed(kSection, old_key, "closed_loop", key);
+    return t;
+  }();
+  return table;
 }
+
+std::map<std::string, std::set<std::string>> coevaluation_config_keys() { return coevaluation_keys().known_keys(); }
 
 CoevaluationSettings load_coevaluation_settings(const experiment::ExperimentSettings& settings) {
   const common::IniConfig& cfg = settings.config;
   const placement::Scenario& scenario = settings.placement.scenario;
+  const common::KeyTable<CoevaluationSettings>& keys = coevaluation_keys();
   CoevaluationSettings c;
-
-  if (cfg.has(kSection, "beacon_noise_values_m")) {
-    const std::string where = cfg.where(kSection, "beacon_noise_values_m");
-    c.beacon_noise_values_m.clear();
-    for (const std::string& item : common::split_list(cfg.get_string(kSection, "beacon_noise_values_m", ""))) {
-      const double v = common::parse_double(item, where);
-      if (v < 0.0) throw common::InputError(where + ": " + item + " must be >= 0");
-      c.beacon_noise_values_m.push_back(v);
+  keys.load(cfg, c);
+  keys.check(cfg, "", [&] {
+    // The shared closed-loop settings by the closed loop's own rules.
+    common::with_field_prefix("closed_loop", [&] { fusion::validate(c.closed_loop); });
+    const bool has_ura =
+        std::find(c.algorithms.begin(), c.algorithms.end(), CoevalAlgorithm::kUraEkf) != c.algorithms.end();
+    if (settings.sweep(kSweepBeaconNoise) && has_ura && scenario.num_uavs != scenario.num_bs_antennas()) {
+      throw common::FieldError("algorithms", "ura_ekf needs scenario.num_uavs = bs_rows * bs_cols (" +
+                                                 std::to_string(scenario.num_bs_antennas()) + "), got " +
+                                                 std::to_string(scenario.num_uavs));
     }
-    if (c.beacon_noise_values_m.empty()) throw common::InputError(where + ": needs at least one value");
-  }
-  c.algorithms = parse_algorithms(cfg, "algorithms", kAll, c.algorithms);
-  c.sigma_range_m = non_negative(cfg, "sigma_range_m", c.sigma_range_m, false);
-  c.dr_sigma_floor_m = non_negative(cfg, "dr_sigma_floor_m", c.dr_sigma_floor_m, true);
-  c.dr_sigma_fraction = non_negative(cfg, "dr_sigma_fraction", c.dr_sigma_fraction, false);
-  c.pf_particles = static_cast<int>(cfg.get_integer(kSection, "pf_particles", c.pf_particles, 10, 1'000'000));
-  c.refine_window_epochs =
-      static_cast<int>(cfg.get_integer(kSection, "refine_window_epochs", c.refine_window_epochs, 1, 64));
-  c.refine_use_csi = cfg.get_bool(kSection, "refine_use_csi", c.refine_use_csi);
-  if (cfg.has(kSection, "ura_variant")) {
-    const std::string v = cfg.get_string(kSection, "ura_variant", "");
-    if (v == "rigid") {
-      c.ura_variant = placement::UraVariant::kRigid;
-    } else if (v == "lattice") {
-      c.ura_variant = placement::UraVariant::kLattice;
-    } else {
-      throw common::InputError(cfg.where(kSection, "ura_variant") + " = '" + v + "': must be rigid or lattice");
-    }
-  }
-  const bool has_ura = std::find(c.algorithms.begin(), c.algorithms.end(), CoevalAlgorithm::kUraEkf) != c.algorithms.end();
-  if (settings.sweep(kSweepBeaconNoise) && has_ura && scenario.num_uavs != scenario.num_bs_antennas()) {
-    throw common::InputError(cfg.where(kSection, "algorithms") + ": ura_ekf needs scenario.num_uavs = bs_rows * bs_cols (" +
-                     std::to_string(scenario.num_bs_antennas()) + "), got " + std::to_string(scenario.num_uavs));
-  }
-
-  if (cfg.has(kSection, "outage_values")) {
-    const std::string where = cfg.where(kSection, "outage_values");
-    c.outage_values.clear();
-    for (const std::string& item : common::split_list(cfg.get_string(kSection, "outage_values", ""))) {
-      c.outage_values.push_back(static_cast<int>(common::parse_integer(item, where, 0, scenario.num_uavs)));
-    }
-    if (c.outage_values.empty()) throw common::InputError(where + ": needs at least one value");
-  } else if (settings.sweep(kSweepBeaconOutage)) {
-    for (const int k : c.outage_values) {
-      if (k > scenario.num_uavs) {
-        throw common::InputError("[coevaluation] outage_values (default) has " + std::to_string(k) + " UAVs but the swarm has " +
-                         std::to_string(scenario.num_uavs) + ": set outage_values");
+    // Checked with or without the sweep when given; the default only when the sweep runs.
+    if (cfg.has(kSection, "outage_values") || settings.sweep(kSweepBeaconOutage)) {
+      for (const int k : c.outage_values) {
+        if (k > scenario.num_uavs) {
+          throw common::FieldError("outage_values", std::to_string(k) + " UAVs without beacon, but the swarm has " +
+                                                        std::to_string(scenario.num_uavs));
+        }
       }
     }
-  }
-  c.outage_algorithms = parse_algorithms(cfg, "outage_algorithms", kOutageAllowed, c.outage_algorithms);
-  c.outage_first_epoch =
-      static_cast<int>(cfg.get_integer(kSection, "outage_first_epoch", c.outage_first_epoch, 0, 1'000'000));
-  c.outage_epochs = static_cast<int>(cfg.get_integer(kSection, "outage_epochs", c.outage_epochs, 0, 1'000'000));
-  c.outage_degraded_after_epochs = static_cast<int>(
-      cfg.get_integer(kSection, "outage_degraded_after_epochs", c.outage_degraded_after_epochs, 1, 1'000'000));
-  c.outage_beacon_noise_m = non_negative(cfg, "outage_beacon_noise_m", c.outage_beacon_noise_m, false);
+  });
   return c;
 }
 
-std::string to_ini(const CoevaluationSettings& c) {
-  const auto algorithm_list = [](const std::vector<CoevalAlgorithm>& v) {
-    std::string out;
-    for (const CoevalAlgorithm a : v) out += (out.empty() ? "" : ", ") + to_string(a);
-    return out;
-  };
-  std::string outages;
-  for (const int k : c.outage_values) outages += (outages.empty() ? "" : ", ") + std::to_string(k);
-  std::ostringstream o;
-  o << "[coevaluation]\n"
-    << "beacon_noise_values_m = " << join(c.beacon_noise_values_m) << "\n"
-    << "algorithms = " << algorithm_list(c.algorithms) << "\n"
-    << "sigma_range_m = " << common::format_double(c.sigma_range_m) << "\n"
-    << "dr_sigma_floor_m = " << common::format_double(c.dr_sigma_floor_m) << "\n"
-    << "dr_sigma_fraction = " << common::format_double(c.dr_sigma_fraction) << "\n"
-    << "pf_particles = " << c.pf_particles << "\n"
-    << "refine_window_epochs = " << c.refine_window_epochs << "\n"
-    << "refine_use_csi = " << (c.refine_use_csi ? "true" : "false") << "\n"
-    << "ura_variant = " << (c.ura_variant == placement::UraVariant::kRigid ? "rigid" : "lattice") << "\n"
-    << "outage_values = " << outages << "\n"
-    << "outage_algorithms = " << algorithm_list(c.outage_algorithms) << "\n"
-    << "outage_first_epoch = " << c.outage_first_epoch << "\n"
-    << "outage_epochs = " << c.outage_epochs << "\n"
-    << "outage_degraded_after_epochs = " << c.outage_degraded_after_epochs << "\n"
-    << "outage_beacon_noise_m = " << common::format_double(c.outage_beacon_noise_m) << "\n";
-  return o.str();
-}
+std::string to_ini(const CoevaluationSettings& c) { return coevaluation_keys().to_ini(c); }
 
 const std::vector<std::string>& coevaluation_extra_metrics() {
   static const std::vector<std::string> kNames = {"loc_rmse_m", "loc_lateral_rmse_m", "nees", "bf_fallback_fraction",

@@ -30,7 +30,7 @@ constexpr int kMaxUavs = 4096;      // placement's num_uavs bound
 constexpr int kMaxEpochs = 10'000'000;
 constexpr int kMaxForeignUavs = 256;  // foreign labels above UAV255_ are skipped
 
-// Marks start with "losmimo <LABEL>\n" (rawlog_recorder.cpp).
+// Marks start with "losmimo <LABEL>\n" (recorder.cpp).
 bool is_mark(const mrpt::obs::CObservationComment& c, const char* label) {
   const std::string head = std::string("losmimo ") + label + "\n";
   return c.text.compare(0, head.size(), head) == 0;

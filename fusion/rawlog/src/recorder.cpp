@@ -153,7 +153,7 @@ class Recorder : public fusion::ClosedLoopObserver {
     const int m = e.uav;
     epochs_ = std::max(epochs_, e.epoch + 1);
     // Dead reckoning first: in a reader that knows nothing of the marks, the displacement opens
-    // the UAV's next epoch and everything after it belongs there (rawlog_log.h).
+    // the UAV's next epoch and everything after it belongs there (log.h).
     if (e.measured_displacement_m) {
       const auto& n = config_.closed_loop.filter.noise;
       const double s = n.dr_sigma_floor_m + n.dr_sigma_fraction * e.measured_displacement_m->norm();

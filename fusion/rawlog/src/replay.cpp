@@ -89,10 +89,10 @@ ReplayResult replay_mission(const MissionLog& log, const ReplayOptions& options)
     double e_sq = 0.0, e_lat = 0.0, e_nees = 0.0;
     int e_n = 0;
     for (int m = 0; m < nr; ++m) {
-      static const LoggedUavEpoch kNothing;  // foreign rows are ragged (rawlog_log.cpp)
+      static const LoggedUavEpoch kNothing;  // foreign rows are ragged (log.cpp)
       const LoggedUavEpoch& in = m < static_cast<int>(log.epochs[k].size()) ? log.epochs[k][m] : kNothing;
       std::optional<localization::BeaconMeasurement> z = in.beacon;
-      // Ours: nothing arrived from the UAV in this epoch; the loop kept its belief (closed_loop.cpp).
+      // Ours: nothing arrived from the UAV in this epoch; the loop kept its belief (fusion/src/closed_loop.cpp).
       const bool silent = log.ours && k > 0 && !in.reported;
       // Ours: '-' = the UAV was not commanded in iteration k + 1 (silent, or the run stopped).
       const bool commanded = !(log.ours && k < static_cast<int>(log.modes.size()) &&

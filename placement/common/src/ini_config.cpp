@@ -7,6 +7,9 @@
 namespace losmimo::common {
 
 namespace {
+// The field an error about a key names: "[section] key".
+std::string field_name(const std::string& section, const std::string& key) { return "[" + section + "] " + key; }
+
 std::string trim(const std::string& s) {
   std::size_t b = 0;
   std::size_t e = s.size();
@@ -123,19 +126,19 @@ std::string IniConfig::where(const std::string& section, const std::string& key)
 }
 
 double IniConfig::get_double(const std::string& section, const std::string& key, double fallback) const {
-  return has(section, key) ? parse_double(sections_.at(section).at(key).value, where(section, key))
+  return has(section, key) ? parse_double(sections_.at(section).at(key).value, where(section, key), field_name(section, key))
                            : fallback;
 }
 
 long long IniConfig::get_integer(const std::string& section, const std::string& key,
                                  long long fallback, long long lo, long long hi) const {
   return has(section, key)
-             ? parse_integer(sections_.at(section).at(key).value, where(section, key), lo, hi)
+             ? parse_integer(sections_.at(section).at(key).value, where(section, key), lo, hi, field_name(section, key))
              : fallback;
 }
 
 bool IniConfig::get_bool(const std::string& section, const std::string& key, bool fallback) const {
-  return has(section, key) ? parse_bool(sections_.at(section).at(key).value, where(section, key))
+  return has(section, key) ? parse_bool(sections_.at(section).at(key).value, where(section, key), field_name(section, key))
                            : fallback;
 }
 
@@ -149,10 +152,10 @@ void IniConfig::require_known(const std::map<std::string, std::set<std::string>>
     const auto k = known.find(section);
     if (k == known.end()) {
       std::string where_first = keys.empty() ? "" : where(section, keys.begin()->first) + ": ";
-      throw InputError(where_first + "unknown section [" + section + "]");
+      throw InputError(where_first + "unknown section [" + section + "]", "[" + section + "]");
     }
     for (const auto& [key, entry] : keys) {
-      if (!k->second.count(key)) throw InputError(where(section, key) + ": unknown key");
+      if (!k->second.count(key)) throw InputError(where(section, key) + ": unknown key", field_name(section, key));
     }
   }
 }

@@ -5,6 +5,7 @@
 #include <ostream>
 
 #include "losmimo/common/format.h"
+#include "losmimo/experiment/metrics.h"
 
 namespace losmimo::experiment {
 
@@ -15,23 +16,25 @@ std::string exact(double v) { return common::format_g(v, common::kExactDigits); 
 }  // namespace
 
 void write_trials_header(std::ostream& out, const std::vector<std::string>& extra) {
-  out << "sweep,value,algorithm,trial,seed,iterations,converged,final_icn,dist_to_icn050_m,"
-         "dist_to_icn095_m,dist_total_m,probe_dist_m,sinr_nv_db,sinr_zf_db,sinr_mf_db,"
-         "sum_rate_nv_bps_hz,sum_rate_zf_bps_hz,mean_sinr_nv_db,mean_sinr_zf_db,mean_sinr_mf_db,"
-         "dist_placement_m,start_seed,status";
+  out << "sweep,value,algorithm,trial,seed";
+  for (const Metric& m : kMetrics) out << "," << m.name;
+  out << ",start_seed,status";
   for (const std::string& e : extra) out << "," << e;
   out << "\n";
 }
 
 void write_trials_rows(std::ostream& out, const std::vector<TrialRecord>& records, std::size_t num_extra) {
   for (const TrialRecord& r : records) {
-    out << r.sweep << "," << fmt(r.value) << "," << r.algorithm << "," << r.trial << ","
-        << r.seed << "," << r.iterations << "," << (r.converged ? 1 : 0) << "," << fmt(r.final_icn) << ","
-        << fmt(r.dist_to_icn050_m) << "," << fmt(r.dist_to_icn095_m) << "," << fmt(r.dist_total_m) << ","
-        << fmt(r.probe_dist_m) << "," << fmt(r.sinr_nv_db) << "," << fmt(r.sinr_zf_db) << ","
-        << fmt(r.sinr_mf_db) << "," << fmt(r.sum_rate_nv_bps_hz) << "," << fmt(r.sum_rate_zf_bps_hz) << ","
-        << fmt(r.mean_sinr_nv_db) << "," << fmt(r.mean_sinr_zf_db) << "," << fmt(r.mean_sinr_mf_db) << ","
-        << fmt(r.dist_placement_m) << "," << r.start_seed << "," << r.status;
+    out << r.sweep << "," << fmt(r.value) << "," << r.algorithm << "," << r.trial << "," << r.seed;
+    for (const Metric& m : kMetrics) {
+      out << ",";
+      if (m.is_real()) {
+        out << fmt(m.get(r));
+      } else {
+        out << static_cast<long long>(m.get(r));
+      }
+    }
+    out << "," << r.start_seed << "," << r.status;
     for (std::size_t i = 0; i < num_extra; ++i) out << "," << fmt(i < r.extra.size() ? r.extra[i] : std::nan(""));
     out << "\n";
   }

@@ -8,6 +8,7 @@
 
 #include "losmimo/common/format.h"
 #include "losmimo/common/input_error.h"
+#include "losmimo/experiment/metrics.h"
 
 namespace losmimo::experiment {
 
@@ -30,12 +31,8 @@ void write_matrix(std::ostream& out, const Eigen::Matrix3Xd& q) {
 void write_record_lines(std::ostream& out, int point, const std::vector<TrialRecord>& records) {
   for (const TrialRecord& r : records) {
     out << "r," << point << "," << r.sweep << "," << exact(r.value) << "," << r.algorithm << "," << r.trial << ","
-        << r.seed << "," << r.start_seed << "," << r.iterations << "," << (r.converged ? 1 : 0) << "," << r.status;
-    for (const double v : {r.final_icn, r.dist_to_icn050_m, r.dist_to_icn095_m, r.dist_total_m, r.dist_placement_m,
-                           r.probe_dist_m, r.sinr_nv_db, r.sinr_zf_db, r.sinr_mf_db, r.mean_sinr_nv_db,
-                           r.mean_sinr_zf_db, r.mean_sinr_mf_db, r.sum_rate_nv_bps_hz, r.sum_rate_zf_bps_hz}) {
-      out << "," << exact(v);
-    }
+        << r.seed << "," << r.start_seed << "," << r.status;
+    for (const Metric& m : kMetrics) out << "," << exact(m.get(r));
     out << "," << r.extra.size();
     for (const double v : r.extra) out << "," << exact(v);
     write_matrix(out, r.start_m);
@@ -60,6 +57,10 @@ RecordLines parse_record_lines(std::istream& in, const std::string& origin, bool
   int line_no = 0;
   while (std::getline(lines, line)) {
     ++line_no;
+    if (line.rfind(kRecordsMagic, 0) == 0 && line != kRecordsHeader) {
+      throw common::InputError(origin + ":" + std::to_string(line_no) + ": '" + line + "': written by another losmimo version (expected '" +
+                               kRecordsHeader + "'); run that experiment again");
+    }
     if (line.empty() || line[0] == '#') continue;
     const std::string where = origin + ":" + std::to_string(line_no);
     std::vector<std::string> f;
@@ -99,14 +100,15 @@ RecordLines parse_record_lines(std::istream& in, const std::string& origin, bool
       };
       r.seed = u64();
       r.start_seed = u64();
-      r.iterations = static_cast<int>(integer(0, 1LL << 31));
-      r.converged = integer(0, 1) == 1;
       r.status = next();
-      for (double* v : {&r.final_icn, &r.dist_to_icn050_m, &r.dist_to_icn095_m, &r.dist_total_m,
-                        &r.dist_placement_m, &r.probe_dist_m, &r.sinr_nv_db, &r.sinr_zf_db, &r.sinr_mf_db,
-                        &r.mean_sinr_nv_db, &r.mean_sinr_zf_db, &r.mean_sinr_mf_db, &r.sum_rate_nv_bps_hz,
-                        &r.sum_rate_zf_bps_hz}) {
-        *v = real();
+      for (const Metric& m : kMetrics) {
+        if (m.integer) {
+          m.set(r, static_cast<double>(integer(0, 1LL << 31)));
+        } else if (m.flag) {
+          m.set(r, static_cast<double>(integer(0, 1)));
+        } else {
+          m.set(r, real());
+        }
       }
       r.extra.resize(static_cast<std::size_t>(integer(0, 1 << 20)));
       for (double& v : r.extra) v = real();

@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 const char* const kWhyDistance =
     "the paper states neither how it counts distance nor its GD normalisation; here GD steps on "
     "f / Nr with a 0.5 m cap, BF contracts its step and escapes stalls, and distance is the true "
-    "path flown (README, 'Differences from the paper')";
+    "path flown (docs/model.md, 'Differences from the paper')";
 const char* const kWhyUra =
     "the paper's URA assignment and array placement are not fully specified; ours is centred on "
     "the cube with a minimum-total-distance assignment, and retries toward targets every "

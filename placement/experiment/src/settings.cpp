@@ -1,10 +1,7 @@
-#include "losmimo/common/format.h"
-#include "losmimo/common/ini_config.h"
 #include "losmimo/experiment/settings.h"
 
 #include <algorithm>
-#include <iomanip>
-#include <sstream>
+#include <stdexcept>
 
 #include "losmimo/experiment/extension.h"
 #include "losmimo/placement/swarm.h"
@@ -15,26 +12,6 @@ namespace {
 constexpr Algorithm kAllAlgorithms[] = {Algorithm::kRandom, Algorithm::kGd, Algorithm::kBf,
                                         Algorithm::kUra, Algorithm::kUraLattice,
                                         Algorithm::kUraLatticeExact};
-
-std::vector<double> parse_sigma_list(const common::IniConfig& cfg, const std::string& key,
-                                     const std::vector<double>& fallback) {
-  if (!cfg.has("experiment", key)) return fallback;
-  const std::string where = cfg.where("experiment", key);
-  std::vector<double> values;
-  for (const std::string& item : common::split_list(cfg.get_string("experiment", key, ""))) {
-    const double v = common::parse_double(item, where);
-    if (!(v >= 0.0 && v <= placement::kMaxErrorSigma_m)) throw common::InputError(where + ": " + item + " must be in [0, 1e3] m");
-    values.push_back(v);
-  }
-  if (values.empty()) throw common::InputError(where + ": needs at least one value");
-  return values;
-}
-
-std::string join(const std::vector<double>& v) {
-  std::ostringstream o;
-  for (std::size_t i = 0; i < v.size(); ++i) o << (i ? ", " : "") << common::format_double(v[i]);
-  return o.str();
-}
 
 const ExperimentExtension* find_extension(const ExperimentExtensions& extensions, const std::string& sweep) {
   for (const ExperimentExtension& e : extensions) {
@@ -70,13 +47,98 @@ const SweepPoints* ExperimentSettings::sweep(const std::string& name) const {
   return nullptr;
 }
 
+namespace {
+
+// The values of a built-in sweep (sigma_loc_m, sigma_act_m) in s.sweeps.
+template <typename Settings>
+auto& builtin_values(Settings& s, const std::string& name) {
+  for (auto& sweep : s.sweeps) {
+    if (sweep.name == name) return sweep.values;
+  }
+  throw std::logic_error("no " + name + " sweep");
+}
+
+// A list written as "a, b, c".
+template <typename T, typename Name>
+std::string join_names(const std::vector<T>& items, Name name) {
+  std::string out;
+  for (const T& item : items) out += (out.empty() ? "" : ", ") + name(item);
+  return out;
+}
+
+std::vector<common::Key<ExperimentSettings>> experiment_key_list() {
+  using K = common::Key<ExperimentSettings>;
+  const common::Range sigma_range = common::Range::closed(0.0, placement::kMaxErrorSigma_m);
+  return {
+      K::integer("experiment", "trials", &ExperimentSettings::trials, 1, 1'000'000,
+                 "random starts per sweep point (the paper: 500)", "3"),
+      K::integer("experiment", "seed", &ExperimentSettings::seed, 0, (1LL << 62),
+                 "base seed; every number of a trial derives from it", "7"),
+      // Read before `sweeps`, which takes the built-in sweeps' values from here.
+      K::real_list("experiment", "sigma_loc_values_m",
+                   [](auto& s) -> auto& { return builtin_values(s, kSweepSigmaLoc); }, sigma_range, "sweep points of sigma_loc_m [m]", "0, 0.1")
+          .written_if([](const ExperimentSettings& s) { return s.sweep(kSweepSigmaLoc) != nullptr; }),
+      K::real_list("experiment", "sigma_act_values_m",
+                   [](auto& s) -> auto& { return builtin_values(s, kSweepSigmaAct); }, sigma_range, "sweep points of sigma_act_m [m]", "0.05")
+          .written_if([](const ExperimentSettings& s) { return s.sweep(kSweepSigmaAct) != nullptr; }),
+      K::text("experiment", "sweeps",
+              [](ExperimentSettings& s, const std::string& text, const std::string& where) {
+                // Names other than the built-in ones are the extensions' (checked once they are known).
+                std::vector<SweepPoints> sweeps;
+                for (const std::string& name : common::split_list(text)) {
+                  for (const SweepPoints& seen : sweeps) {
+                    if (seen.name == name) throw common::InputError(where + ": sweep '" + name + "' listed twice");
+                  }
+                  const SweepPoints* builtin = s.sweep(name);
+                  sweeps.push_back(builtin ? *builtin : SweepPoints{name, {}});
+                }
+                if (sweeps.empty()) throw common::InputError(where + ": needs at least one sweep");
+                s.sweeps = sweeps;
+              },
+              [](const ExperimentSettings& s) {
+                return join_names(s.sweeps, [](const SweepPoints& p) { return p.name; });
+              },
+              "comma-separated sweep names",
+              "the sweeps to run, in order (extensions add more, e.g. fusion's beacon_noise_m)", "sigma_act_m"),
+      K::text("experiment", "algorithms",
+              [](ExperimentSettings& s, const std::string& text, const std::string& where) {
+                s.algorithms.clear();
+                for (const std::string& name : common::split_list(text)) {
+                  const Algorithm a = algorithm_from_string(name, where);
+                  if (std::find(s.algorithms.begin(), s.algorithms.end(), a) != s.algorithms.end()) {
+                    throw common::InputError(where + ": algorithm '" + name + "' listed twice");
+                  }
+                  s.algorithms.push_back(a);
+                }
+                if (s.algorithms.empty()) throw common::InputError(where + ": needs at least one algorithm");
+              },
+              [](const ExperimentSettings& s) {
+                return join_names(s.algorithms, [](Algorithm a) { return to_string(a); });
+              },
+              "comma-separated: random, gd, bf, ura, ura_lattice, ura_lattice_exact",
+              "the built-in sweeps' algorithms (default: all but ura_lattice_exact)", "gd, bf"),
+      K::integer("experiment", "fig1_trials", &ExperimentSettings::fig1_trials, 0, 10000,
+                 "traced runs per algorithm for Fig 1 (no errors)", "2"),
+      K::integer("experiment", "threads", &ExperimentSettings::threads, 0, 1024,
+                 "worker threads, 0 = all cores; results do not depend on it", "1"),
+      K::boolean("experiment", "plots", &ExperimentSettings::plots, "gnuplot figures", "false"),
+  };
+}
+
+}  // namespace
+
+const common::KeyTable<ExperimentSettings>& experiment_keys() {
+  static const common::KeyTable<ExperimentSettings> table(experiment_key_list());
+  return table;
+}
+
 std::map<std::string, std::set<std::string>> experiment_config_keys(const ExperimentExtensions& extensions) {
   auto keys = placement::placement_config_keys();
-  keys["experiment"] = {"trials",     "seed",        "sweeps",  "sigma_loc_values_m", "sigma_act_values_m",
-                        "algorithms", "fig1_trials", "threads", "plots"};
-  for (const ExperimentExtension& e : extensions) {
-    for (const auto& [section, section_keys] : e.config_keys) keys[section].insert(section_keys.begin(), section_keys.end());
-  }
+  const auto add = [&keys](const std::map<std::string, std::set<std::string>>& more) {
+    for (const auto& [section, section_keys] : more) keys[section].insert(section_keys.begin(), section_keys.end());
+  };
+  add(experiment_keys().known_keys());
+  for (const ExperimentExtension& e : extensions) add(e.config_keys);
   return keys;
 }
 
@@ -85,60 +147,27 @@ ExperimentSettings load_experiment_settings(const common::IniConfig& cfg, const 
   ExperimentSettings s;
   s.config = cfg;
   s.placement = placement::load_placement_settings(cfg);
-  s.trials = static_cast<int>(cfg.get_integer("experiment", "trials", s.trials, 1, 1'000'000));
-  s.seed = static_cast<std::uint64_t>(
-      cfg.get_integer("experiment", "seed", static_cast<long long>(s.seed), 0, (1LL << 62)));
-  s.fig1_trials = static_cast<int>(cfg.get_integer("experiment", "fig1_trials", s.fig1_trials, 0, 10000));
-  s.threads = static_cast<int>(cfg.get_integer("experiment", "threads", s.threads, 0, 1024));
-  s.plots = cfg.get_bool("experiment", "plots", s.plots);
-
-  if (cfg.has("experiment", "algorithms")) {
-    const std::string where = cfg.where("experiment", "algorithms");
-    s.algorithms.clear();
-    for (const std::string& name : common::split_list(cfg.get_string("experiment", "algorithms", ""))) {
-      const Algorithm a = algorithm_from_string(name, where);
-      for (const Algorithm seen : s.algorithms) {
-        if (seen == a) throw common::InputError(where + ": algorithm '" + name + "' listed twice");
-      }
-      s.algorithms.push_back(a);
-    }
-    if (s.algorithms.empty()) throw common::InputError(where + ": needs at least one algorithm");
-  }
-
-  const std::vector<double> loc = parse_sigma_list(cfg, "sigma_loc_values_m", s.sweeps[0].values);
-  const std::vector<double> act = parse_sigma_list(cfg, "sigma_act_values_m", s.sweeps[1].values);
-  std::vector<std::string> names = {kSweepSigmaLoc, kSweepSigmaAct};
-  if (cfg.has("experiment", "sweeps")) names = common::split_list(cfg.get_string("experiment", "sweeps", ""));
-  const std::string where = cfg.where("experiment", "sweeps");
-  if (names.empty()) throw common::InputError(where + ": needs at least one sweep");
-  s.sweeps.clear();
-  for (const std::string& name : names) {
-    if (s.sweep(name)) throw common::InputError(where + ": sweep '" + name + "' listed twice");
-    if (name == kSweepSigmaLoc) {
-      s.sweeps.push_back({name, loc});
-    } else if (name == kSweepSigmaAct) {
-      s.sweeps.push_back({name, act});
-    } else if (find_extension(extensions, name)) {
-      s.sweeps.push_back({name, {}});  // values below, once the settings are complete
-    } else {
+  const common::KeyTable<ExperimentSettings>& keys = experiment_keys();
+  keys.load(cfg, s);
+  keys.check(cfg, "", [&] {
+    for (const SweepPoints& sweep : s.sweeps) {
+      const bool builtin = sweep.name == kSweepSigmaLoc || sweep.name == kSweepSigmaAct;
+      if (builtin || find_extension(extensions, sweep.name)) continue;
       std::string known = kSweepSigmaLoc + ", " + kSweepSigmaAct;
       for (const ExperimentExtension& e : extensions) known += ", " + e.sweep;
-      throw common::InputError(where + ": unknown sweep '" + name + "' (known: " + known + ")");
+      throw common::FieldError("sweeps", "unknown sweep '" + sweep.name + "' (known: " + known + ")");
     }
-  }
-
-  const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
-  const bool has_ura = [&] {
-    for (const Algorithm a : s.algorithms) {
-      if (a == Algorithm::kUra || a == Algorithm::kUraLattice || a == Algorithm::kUraLatticeExact) return true;
+    const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
+    const bool has_ura = std::any_of(s.algorithms.begin(), s.algorithms.end(), [](Algorithm a) {
+      return a == Algorithm::kUra || a == Algorithm::kUraLattice || a == Algorithm::kUraLatticeExact;
+    });
+    const placement::Scenario& sc = s.placement.scenario;
+    if (builtin && has_ura && sc.num_uavs != sc.num_bs_antennas()) {
+      throw common::FieldError("algorithms", "ura needs scenario.num_uavs = bs_rows * bs_cols (" +
+                                                 std::to_string(sc.num_bs_antennas()) + "), got " +
+                                                 std::to_string(sc.num_uavs));
     }
-    return false;
-  }();
-  if (builtin && has_ura && s.placement.scenario.num_uavs != s.placement.scenario.num_bs_antennas()) {
-    throw common::InputError("[experiment] algorithms: ura needs scenario.num_uavs = bs_rows * bs_cols (" +
-                     std::to_string(s.placement.scenario.num_bs_antennas()) + "), got " +
-                     std::to_string(s.placement.scenario.num_uavs));
-  }
+  });
   for (SweepPoints& sweep : s.sweeps) {
     if (const ExperimentExtension* e = find_extension(extensions, sweep.name)) {
       sweep.values = e->load_values(s);
@@ -150,29 +179,10 @@ ExperimentSettings load_experiment_settings(const common::IniConfig& cfg, const 
 
 std::string to_ini(const ExperimentSettings& s) {
   // The whole config as read (extension sections included), with [experiment] and the
-  // placement sections as resolved (defaults filled in).
+  // placement sections as resolved (defaults filled in), sorted.
   common::IniConfig resolved = s.config;
-  const common::IniConfig placement = common::IniConfig::from_string(to_ini(s.placement));
-  for (const auto& [section, keys] : placement::placement_config_keys()) {
-    for (const std::string& key : keys) {
-      if (placement.has(section, key)) resolved.set(section, key, placement.get_string(section, key, ""));
-    }
-  }
-  std::ostringstream alg;
-  for (std::size_t i = 0; i < s.algorithms.size(); ++i) alg << (i ? ", " : "") << to_string(s.algorithms[i]);
-  std::ostringstream sweeps;
-  for (std::size_t i = 0; i < s.sweeps.size(); ++i) sweeps << (i ? ", " : "") << s.sweeps[i].name;
-  resolved.set("experiment", "trials", std::to_string(s.trials));
-  resolved.set("experiment", "seed", std::to_string(s.seed));
-  resolved.set("experiment", "sweeps", sweeps.str());
-  for (const SweepPoints& sp : s.sweeps) {
-    if (sp.name == kSweepSigmaLoc) resolved.set("experiment", "sigma_loc_values_m", join(sp.values));
-    if (sp.name == kSweepSigmaAct) resolved.set("experiment", "sigma_act_values_m", join(sp.values));
-  }
-  resolved.set("experiment", "algorithms", alg.str());
-  resolved.set("experiment", "fig1_trials", std::to_string(s.fig1_trials));
-  resolved.set("experiment", "threads", std::to_string(s.threads));
-  resolved.set("experiment", "plots", s.plots ? "true" : "false");
+  placement::placement_keys().write_to(resolved, s.placement);
+  experiment_keys().write_to(resolved, s);
   return resolved.to_string();
 }
 

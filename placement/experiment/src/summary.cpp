@@ -5,6 +5,7 @@
 #include <ostream>
 
 #include "losmimo/common/format.h"
+#include "losmimo/experiment/metrics.h"
 
 namespace losmimo::experiment {
 
@@ -44,13 +45,6 @@ Estimate estimate(const std::vector<double>& values) {
   return e;
 }
 
-std::vector<std::string> summary_metric_names() {
-  return {"final_icn",       "dist_to_icn050_m", "dist_to_icn095_m",   "dist_total_m",
-          "probe_dist_m",    "iterations",       "sinr_nv_db",         "sinr_zf_db",
-          "sinr_mf_db",      "mean_sinr_nv_db",  "mean_sinr_zf_db",    "mean_sinr_mf_db",
-          "sum_rate_nv_bps_hz", "sum_rate_zf_bps_hz"};
-}
-
 const Estimate* SummaryRow::metric(const std::string& name) const {
   for (const auto& [n, e] : metrics) {
     if (n == name) return &e;
@@ -59,6 +53,10 @@ const Estimate* SummaryRow::metric(const std::string& name) const {
 }
 
 std::vector<SummaryRow> summarize(const std::vector<TrialRecord>& records, const std::vector<std::string>& extra) {
+  // The summarised metrics in summary.csv order, then the extensions'.
+  const std::vector<const Metric*> summarised = summary_metrics();
+  std::vector<std::string> names = summary_metric_names();
+  names.insert(names.end(), extra.begin(), extra.end());
   std::vector<SummaryRow> rows;
   std::size_t i = 0;
   while (i < records.size()) {
@@ -69,8 +67,6 @@ std::vector<SummaryRow> summarize(const std::vector<TrialRecord>& records, const
     for (std::size_t k = i; k < j; ++k) {
       if (std::find(order.begin(), order.end(), records[k].algorithm) == order.end()) order.push_back(records[k].algorithm);
     }
-    std::vector<std::string> names = summary_metric_names();
-    names.insert(names.end(), extra.begin(), extra.end());
     for (const std::string& a : order) {
       SummaryRow row{records[i].sweep, records[i].value, a, 0, 0.0, {}};
       std::vector<std::vector<double>> columns(names.size());
@@ -80,14 +76,9 @@ std::vector<SummaryRow> summarize(const std::vector<TrialRecord>& records, const
         if (r.algorithm != a) continue;
         ++row.trials;
         converged += r.converged;
-        const double v[] = {r.final_icn,       r.dist_to_icn050_m, r.dist_to_icn095_m,  r.dist_total_m,
-                            r.probe_dist_m,    static_cast<double>(r.iterations), r.sinr_nv_db, r.sinr_zf_db,
-                            r.sinr_mf_db,      r.mean_sinr_nv_db,  r.mean_sinr_zf_db,   r.mean_sinr_mf_db,
-                            r.sum_rate_nv_bps_hz, r.sum_rate_zf_bps_hz};
-        constexpr std::size_t kBuiltIn = sizeof v / sizeof v[0];
-        for (std::size_t c = 0; c < kBuiltIn; ++c) columns[c].push_back(v[c]);
+        for (std::size_t c = 0; c < summarised.size(); ++c) columns[c].push_back(summarised[c]->get(r));
         for (std::size_t c = 0; c < extra.size(); ++c) {
-          columns[kBuiltIn + c].push_back(c < r.extra.size() ? r.extra[c] : std::nan(""));
+          columns[summarised.size() + c].push_back(c < r.extra.size() ? r.extra[c] : std::nan(""));
         }
       }
       row.converged_fraction = row.trials ? static_cast<double>(converged) / row.trials : 0.0;

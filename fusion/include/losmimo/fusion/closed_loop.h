@@ -1,5 +1,5 @@
 #pragma once
-// The closed loop of issue 5: placement driven by estimated, not true, positions.
+// The closed loop: placement driven by estimated, not true, positions.
 //
 // One swarm iteration i (i = 1, 2, ...), after the paper's master/drone pseudocode:
 //  1. Localization, epoch k = i - 1 (epoch 0 is taken in start()). Every UAV m
@@ -27,7 +27,7 @@
 //     BF mode is skipped.
 //  4. run_placement (placement/run.h) evaluates the ICN and stops at the target.
 //
-// Faults (issue 8). The master (this planner) screens every measurement before it reaches the
+// Faults. The master (this planner) screens every measurement before it reaches the
 // filter, the refinement or placement, and watches every UAV:
 //  - a non-finite or implausible beacon (localization::is_plausible: range outside
 //    (0, filter.max_beacon_range_m], elevation beyond +-pi/2) or CSI row is dropped, a non-finite
@@ -175,7 +175,7 @@ struct ClosedLoopStats {
   int rejected_measurements() const;   // the sum of the three rejected_* over every UAV
 };
 
-// Optional observer of a closed-loop run (e.g. the rawlog recorder, rawlog_recorder.h). It sees
+// Optional observer of a closed-loop run (e.g. the rawlog recorder, rawlog/recorder.h). It sees
 // copies of what every UAV measured and believed, and every move, in the order they happen:
 //   start():      on_start, then on_epoch(epoch 0) for every UAV;
 //   iteration i:  on_epoch(epoch i - 1) for every UAV (i > 1), on_move for every UAV, then

@@ -1,5 +1,5 @@
 #pragma once
-// Per-UAV sliding-window refinement of the position belief with Ceres (issue 5).
+// Per-UAV sliding-window refinement of the position belief with Ceres.
 //
 // Window: the UAV's last W epochs, oldest first, positions q_0 .. q_{W-1} [m] (BS array frame).
 // Unknowns: the W positions and one reference phase psi_j [rad] per CSI measurement (csi.h).

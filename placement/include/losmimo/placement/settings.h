@@ -1,21 +1,17 @@
 #pragma once
-// The placement settings an INI config holds, with the paper's values as defaults.
-//
-//   [scenario]  bs_rows bs_cols bs_spacing_m carrier_hz num_uavs cube_side_m cube_center_x_m
-//               cube_center_y_m cube_center_z_m snr_db gain_model (far_field | exact)
-//   [errors]    sigma_loc_m sigma_act_m
-//   [placement] target_icn max_iterations
-//   [gd]        step decay max_move_m backtracking max_halvings escape stall_window
-//               stall_min_decrease escape_half_grid escape_uavs depth_step_gain
-//   [bf]        step decay contraction min_step_m escape stall_window stall_min_decrease
+// The placement settings an INI config holds, with the paper's values as defaults: sections
+// [scenario] (Scenario), [errors] (ErrorModel), [placement] (RunOptions), [gd] (GdOptions) and
+// [bf] (BfOptions). Every key, with its field, accepted values and meaning, is declared once in
+// the key table in settings.cpp (placement_keys(); common/key_table.h).
 
 #include <map>
 #include <set>
 #include <string>
 
+#include "losmimo/common/ini_config.h"
+#include "losmimo/common/key_table.h"
 #include "losmimo/placement/bf.h"
 #include "losmimo/placement/gd.h"
-#include "losmimo/common/ini_config.h"
 
 namespace losmimo::placement {
 
@@ -27,7 +23,10 @@ struct PlacementSettings {
   BfOptions bf;
 };
 
-// Sections and keys read by load_placement_settings.
+// The key table: one entry per key (section, key, field, accepted values, meaning).
+const common::KeyTable<PlacementSettings>& placement_keys();
+
+// Sections and keys read by load_placement_settings (placement_keys().known_keys()).
 std::map<std::string, std::set<std::string>> placement_config_keys();
 
 // Reads the keys present (others keep their defaults) and validates everything; a bad value
@@ -35,7 +34,7 @@ std::map<std::string, std::set<std::string>> placement_config_keys();
 // call common::IniConfig::require_known with the keys of every reader of the file.
 PlacementSettings load_placement_settings(const common::IniConfig& config);
 
-// The settings as INI text (what datasets/configs/paper.ini holds).
+// The settings as INI text, in table order (what datasets/configs/paper.ini holds, sorted).
 std::string to_ini(const PlacementSettings& settings);
 
 }  // namespace losmimo::placement

@@ -1,12 +1,12 @@
 #pragma once
-// The co-evaluation of estimators and placement (issue 5): two sweep kinds that fusion adds to
-// `losmimo-experiment` (placement/experiment_extension.h). Both are off unless listed in
+// The co-evaluation of estimators and placement: two sweep kinds that fusion adds to
+// `losmimo-experiment` (experiment/extension.h). Both are off unless listed in
 // `[experiment] sweeps`, e.g. `--set experiment.sweeps=beacon_noise_m,beacon_outage`.
 //
 // Sweep `beacon_noise_m`: the value v [m] is the beacon-only cross-range error at the swarm
 //   range R = |cube_center_m|, per lateral axis (1-sigma). The beacon's angle noise is
-//   sigma_angle_rad = v / R (azimuth and elevation); its range noise is [coevaluation]
-//   sigma_range_m whatever v. At every point every algorithm starts from the trial's start
+//   sigma_angle_rad = v / R (azimuth and elevation); its range noise is [closed_loop]
+//   beacon_sigma_range_m whatever v. At every point every algorithm starts from the trial's start
 //   (experiment::trial_start_positions_m) with the point's seed (experiment::trial_seed):
 //   - gd_gauss      the paper's GD under its Gaussian localization model with sigma_loc_m = v
 //                   (placement's Swarm, as the built-in `gd`). Matching: the Gaussian's error
@@ -14,7 +14,7 @@
 //                   2-D lateral RMSE sqrt(2) v equals the beacon-only lateral RMSE that the
 //                   closed-loop rows report in beacon_lateral_rmse_m (measured, first order in
 //                   sigma_angle). The Gaussian also errs by v along the range, where the
-//                   beacon errs by sigma_range_m; GD is insensitive to that axis (a common
+//                   beacon errs by beacon_sigma_range_m; GD is insensitive to that axis (a common
 //                   phase of the UAV's row).
 //   - gd_ekf, gd_pf, gd_ekf_ceres   the closed loop (closed_loop.h) with the EKF, the particle
 //                   filter, and the EKF with Ceres CSI refinement; BF fallback on.
@@ -49,14 +49,11 @@
 //   bf_fallback_fraction  UAV-iterations in BF fallback / (Nr x iterations) (closed loop only)
 //   beacon_lateral_rmse_m the beacon-only fixes' lateral RMSE (measured), the matching check
 //
-// [coevaluation] keys (defaults): beacon_noise_values_m (0, 0.02, ..., 0.18), algorithms
-//   (gd_gauss, gd_ekf, gd_pf, gd_ekf_ceres, bf, ura_ekf, centralized), sigma_range_m 0.1,
-//   dr_sigma_floor_m 0.01, dr_sigma_fraction 0.02, pf_particles 1000, refine_window_epochs 5,
-//   refine_use_csi true, ura_variant rigid | lattice, outage_values (0, 2, 4, 8),
-//   outage_algorithms (gd_ekf, gd_ekf_nofallback), outage_first_epoch 10, outage_epochs 30,
-//   outage_degraded_after_epochs 5, outage_beacon_noise_m 0.1.
-// [errors] sigma_act_m applies to every algorithm; [errors] sigma_loc_m to none (the sweep sets
-// gd_gauss's).
+// Settings: the [coevaluation] keys, and the [closed_loop] keys the closed-loop algorithms share
+// with losmimo-record (one spelling: fusion/closed_loop_settings.h): the true beacon range noise,
+// dead reckoning, particles and the refinement window and CSI. Each key is declared once in the
+// key table in settings.cpp (coevaluation_keys()). [errors] sigma_act_m applies to every
+// algorithm; [errors] sigma_loc_m to none (the sweep sets gd_gauss's).
 
 #include <cstdint>
 #include <map>
@@ -66,6 +63,7 @@
 #include <vector>
 
 #include "losmimo/common/input_error.h"
+#include "losmimo/common/key_table.h"
 #include "losmimo/fusion/closed_loop.h"
 #include "losmimo/experiment/extension.h"
 #include "losmimo/placement/ura.h"
@@ -94,12 +92,11 @@ struct CoevaluationSettings {
       CoevalAlgorithm::kGdGauss, CoevalAlgorithm::kGdEkf, CoevalAlgorithm::kGdPf,
       CoevalAlgorithm::kGdEkfCeres, CoevalAlgorithm::kBf, CoevalAlgorithm::kUraEkf,
       CoevalAlgorithm::kCentralized};
-  double sigma_range_m = 0.1;       // beacon range 1-sigma, every point
-  double dr_sigma_floor_m = 0.01;   // dead reckoning (sensor_simulator.h)
-  double dr_sigma_fraction = 0.02;
-  int pf_particles = 1000;
-  int refine_window_epochs = 5;     // W of the Ceres refinement (refinement.h)
-  bool refine_use_csi = true;
+  // The [closed_loop] keys shared with losmimo-record, as ClosedLoopConfig holds them:
+  // simulator.sigma_range_m (the beacon's range 1-sigma at every point), simulator.dr_sigma_*,
+  // filter.num_particles, refinement.window_epochs and refinement.use_csi. The rest of a run's
+  // config is its algorithm's and its sweep point's (coevaluation_closed_loop_config).
+  fusion::ClosedLoopConfig closed_loop;
   placement::UraVariant ura_variant = placement::UraVariant::kRigid;
   std::vector<int> outage_values = {0, 2, 4, 8};  // UAVs without beacon
   std::vector<CoevalAlgorithm> outage_algorithms = {CoevalAlgorithm::kGdEkf,
@@ -110,12 +107,15 @@ struct CoevaluationSettings {
   double outage_beacon_noise_m = 0.1;  // cross-range 1-sigma at R, as beacon_noise_m's value
 };
 
-// The [coevaluation] keys.
+// The key table: the [coevaluation] keys, the shared [closed_loop] ones (their entries in
+// fusion::closed_loop_keys()) and the old [coevaluation] spellings of those, which are refused.
+const common::KeyTable<CoevaluationSettings>& coevaluation_keys();
+// The sections and keys it reads (coevaluation_keys().known_keys()).
 std::map<std::string, std::set<std::string>> coevaluation_config_keys();
-// Reads and validates [coevaluation] (absent keys keep their defaults); a bad key or value
-// throws common::InputError naming "origin:line: [coevaluation] key" and the value.
+// Reads and validates its keys (absent keys keep their defaults); a bad key or value throws
+// common::InputError naming "origin:line: [section] key" and the value.
 CoevaluationSettings load_coevaluation_settings(const experiment::ExperimentSettings& settings);
-// The settings as an INI [coevaluation] section (every key, defaults filled in).
+// The settings as INI text: [coevaluation] and the shared [closed_loop] keys, defaults filled in.
 std::string to_ini(const CoevaluationSettings& settings);
 
 // The extra metric columns, in order (see above).
@@ -140,7 +140,7 @@ std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::Ex
 std::vector<experiment::TrialRecord> run_outage_trial(const experiment::ExperimentSettings& settings,
                                                      int point, int trial);
 
-// The two extensions (experiment_extensions.h lists them). Each beacon_noise_m extension owns
+// The two extensions (extensions.h lists them). Each beacon_noise_m extension owns
 // a CentralizedCache.
 experiment::ExperimentExtension beacon_noise_extension();
 experiment::ExperimentExtension beacon_outage_extension();

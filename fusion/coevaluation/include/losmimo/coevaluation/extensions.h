@@ -1,5 +1,5 @@
 #pragma once
-// The sweep kinds fusion adds to `losmimo-experiment` (placement/experiment_extension.h): the
+// The sweep kinds fusion adds to `losmimo-experiment` (experiment/extension.h): the
 // co-evaluation of estimators and placement (coevaluation.h: the sweeps beacon_noise_m and
 // beacon_outage). The app passes these to run_experiment_app.
 

@@ -1,10 +1,10 @@
 #pragma once
-// The layout of a losmimo rawlog (datasets/README.md has the full description).
+// The layout of a losmimo rawlog (docs/rawlog-format.md has the full description).
 //
 // An MRPT rawlog in the observations-only format, gzip-compressed (CFileGZOutputStream): a
 // sequence of serialized CObservation objects. Streams are told apart by sensorLabel:
 //   CONFIG             CObservationComment   first object: "losmimo-rawlog <version>" line,
-//                                            then the complete mission INI (rawlog_mission.h)
+//                                            then the complete mission INI (mission.h)
 //                                            with a [rawlog] section (filter seeds per UAV)
 //   UAVnn_TRUTH        CObservationRobotPose true position at the epoch (cov 0)
 //   UAVnn_DR           CObservationRobotPose measured displacement since the previous epoch

@@ -1,7 +1,7 @@
 #pragma once
 // A rawlog read into per-epoch, per-UAV records (what losmimo-replay consumes).
 //
-// losmimo's own logs (first object CONFIG with the "losmimo-rawlog" magic, rawlog_format.h):
+// losmimo's own logs (first object CONFIG with the "losmimo-rawlog" magic, format.h):
 // objects are grouped by the EPOCH_END marks. A mark is accepted only if the number of objects
 // before it and the FNV-1a digest of the bytes since the previous mark match; the epochs up to
 // the last accepted mark are used, anything after it (a partial epoch, a corrupted one) is not,

@@ -1,6 +1,6 @@
 #pragma once
-// losmimo-record: runs one closed-loop mission (rawlog_mission.h) and logs it as an MRPT rawlog
-// (layout in rawlog_format.h and datasets/README.md).
+// losmimo-record: runs one closed-loop mission (mission.h) and logs it as an MRPT rawlog
+// (layout in format.h and docs/rawlog-format.md).
 //
 // Writing: every object is serialized with MRPT's CArchive into memory, hashed (FNV-1a 64) and
 // written through zlib's gzip writer (the format MRPT's CFileGZOutputStream writes). After each

@@ -1,5 +1,5 @@
 #pragma once
-// losmimo-replay: the sensor stream of a rawlog (rawlog_log.h) through an estimator, offline,
+// losmimo-replay: the sensor stream of a rawlog (log.h) through an estimator, offline,
 // and the placement evaluation along the logged trajectory.
 //
 // Per UAV m, exactly as the closed loop consumed the data (closed_loop.cpp):

@@ -1,5 +1,5 @@
 #pragma once
-// The uncompressed byte stream under the rawlog reader (rawlog_reader.h): a file through zlib's
+// The uncompressed byte stream under the rawlog reader (reader.h): a file through zlib's
 // gzip reader (which also passes plain files through), or bytes in memory (inflated when they
 // start with the gzip magic 1f 8b, else taken as they are). Trailing bytes after a complete
 // gzip member are ignored, as gzread does; the gzip CRC is checked at its end.

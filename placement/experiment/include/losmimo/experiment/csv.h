@@ -1,5 +1,5 @@
 #pragma once
-// The experiment's CSV files (columns in README's `losmimo-experiment` section):
+// The experiment's CSV files (columns in docs/experiment.md):
 //   trials.csv     one row per record; `extra` names an extension's columns, appended after the
 //                  built-in ones (missing cells as nan)
 //   positions.csv  start and final UAV positions of every record, at full precision

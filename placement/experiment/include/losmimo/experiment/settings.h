@@ -1,26 +1,17 @@
 #pragma once
-// What `losmimo-experiment` runs: the placement settings plus an [experiment] section.
-//
-//   [experiment] trials          random starts per sweep point (quick default 12; paper 500)
-//                seed            base seed; every number of a trial derives from it
-//                sweeps          comma-separated sweeps to run, in order (default
-//                                sigma_loc_m, sigma_act_m; extensions add more, e.g. fusion's)
-//                sigma_loc_values_m, sigma_act_values_m   comma-separated sweep points
-//                algorithms      built-in sweeps' algorithms: subset of random,gd,bf,ura,ura_lattice,
-//                                ura_lattice_exact (default: all but the last)
-//                fig1_trials     traced runs per algorithm for Fig 1 (no errors)
-//                threads         0 = all cores; results do not depend on it
-//                plots           gnuplot figures (true/false)
+// What `losmimo-experiment` runs: the placement settings plus an [experiment] section (trials,
+// seed, sweeps and their points, algorithms, Fig 1 runs, threads, plots), each key declared once
+// in the key table in settings.cpp (experiment_keys(); common/key_table.h).
 //
 // Common random numbers: trial t starts from the same positions at every sweep point and for
 // every algorithm, and sees the same error draws for every algorithm at a point.
 
 #include <cstdint>
-#include <initializer_list>
 #include <string>
 #include <vector>
 
 #include "losmimo/common/ini_config.h"
+#include "losmimo/common/key_table.h"
 #include "losmimo/placement/settings.h"
 
 namespace losmimo::experiment {
@@ -59,5 +50,10 @@ struct ExperimentSettings {
   // The sweep of that name, or nullptr.
   const SweepPoints* sweep(const std::string& name) const;
 };
+
+// The [experiment] keys: one entry per key (section, key, field, accepted values, meaning).
+// Names in `sweeps` other than the built-in ones are checked by load_experiment_settings
+// against the extensions (extension.h).
+const common::KeyTable<ExperimentSettings>& experiment_keys();
 
 }  // namespace losmimo::experiment

@@ -25,10 +25,9 @@ struct SummaryRow {
   std::string algorithm;
   int trials = 0;
   double converged_fraction = 0.0;
-  std::vector<std::pair<std::string, Estimate>> metrics;  // summary_metric_names() + extra
+  std::vector<std::pair<std::string, Estimate>> metrics;  // summary_metric_names() (metrics.h) + extra
   const Estimate* metric(const std::string& name) const;  // nullptr if absent
 };
-std::vector<std::string> summary_metric_names();
 std::vector<SummaryRow> summarize(const std::vector<TrialRecord>& records, const std::vector<std::string>& extra = {});
 void write_summary_csv(std::ostream& out, const std::vector<SummaryRow>& rows);
 

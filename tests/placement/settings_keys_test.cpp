@@ -1,0 +1,86 @@
+// The placement settings' key table (placement/settings.h): every key round-trips, every refused
+// value and every validator failure names its key, generated from the table.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "losmimo/common/ini_config.h"
+#include "losmimo/placement/settings.h"
+
+namespace losmimo::placement {
+namespace {
+
+std::string error_of(const common::IniConfig& cfg) {
+  try {
+    load_placement_settings(cfg);
+  } catch (const common::InputError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+std::string error_of(const std::string& text) { return error_of(common::IniConfig::from_string(text, "p.ini")); }
+
+TEST(PlacementKeys, Defaults_WriteThePaperSettingsInTableOrder) {
+  // The text inside every recorded rawlog's CONFIG: it must not change.
+  EXPECT_EQ(to_ini(PlacementSettings{}),
+            "[scenario]\nbs_rows = 4\nbs_cols = 4\nbs_spacing_m = 0.25\ncarrier_hz = 6e+10\nnum_uavs = 16\n"
+            "cube_side_m = 50\ncube_center_x_m = 1000\ncube_center_y_m = 0\ncube_center_z_m = 0\nsnr_db = 10\n"
+            "gain_model = far_field\n\n"
+            "[errors]\nsigma_loc_m = 0\nsigma_act_m = 0\n\n"
+            "[placement]\ntarget_icn = 0.95\nmax_iterations = 1000\n\n"
+            "[gd]\nstep = 0.05\ndecay = 0.999\nmax_move_m = 0.5\nbacktracking = true\nmax_halvings = 6\n"
+            "escape = true\nstall_window = 20\nstall_min_decrease = 0.01\n\n"
+            "[bf]\nstep = 0.3\ndecay = 0.999\ncontraction = 0.5\nmin_step_m = 0.01\nescape = true\n"
+            "stall_window = 20\nstall_min_decrease = 0.01\n");
+}
+
+TEST(PlacementKeys, EveryKeysExample_RoundTripsThroughToIni) {
+  for (const auto& k : placement_keys().keys()) {
+    // GIVEN the key alone at its example value
+    ASSERT_FALSE(k.example.empty()) << k.key;
+    common::IniConfig cfg;
+    cfg.set(k.section, k.key, k.example);
+    // WHEN written and read back
+    const std::string text = to_ini(load_placement_settings(cfg));
+    const common::IniConfig again = common::IniConfig::from_string(text, "again");
+    again.require_known(placement_config_keys());
+    // THEN it took effect, is written, and reads back to the same text
+    EXPECT_NE(text, to_ini(PlacementSettings{})) << k.key;
+    EXPECT_EQ(again.get_string(k.section, k.key, "?"), k.example) << k.key;
+    EXPECT_EQ(to_ini(load_placement_settings(again)), text) << k.key;
+  }
+}
+
+TEST(PlacementKeys, EveryRefusedValue_NamesFileLineAndKey) {
+  for (const auto& k : placement_keys().keys()) {
+    for (const std::string& bad : k.refused) {
+      const std::string msg = error_of("# a comment\n[" + k.section + "]\n" + k.key + " = " + bad + "\n");
+      EXPECT_EQ(msg.rfind("p.ini:3: [" + k.section + "] " + k.key + ": ", 0), 0u) << bad << " -> " << msg;
+    }
+  }
+}
+
+TEST(PlacementKeys, ValidatorFailures_NameTheKeyWithFileAndLine) {
+  // The validators' rules (validate(Scenario), validate(GdOptions), ...), reported as the key
+  // that set the failing field.
+  EXPECT_EQ(error_of("[gd]\nstep = 0.1\ndecay = 1.5\n"), "p.ini:3: [gd] decay: gd.decay = 1.5: must be in (0, 1]");
+  EXPECT_EQ(error_of("[bf]\n\nmin_step_m = -1\n"), "p.ini:3: [bf] min_step_m: bf.min_step_m = -1: must be in (0, 1e+06]");
+  EXPECT_EQ(error_of("[placement]\ntarget_icn = 2\n"), "p.ini:2: [placement] target_icn: placement.target_icn = 2: must be in (0, 1]");
+  EXPECT_EQ(error_of("[errors]\nsigma_act_m = 2000\n"), "p.ini:2: [errors] sigma_act_m: errors.sigma_act_m = 2000: must be in [0, 1e3] m");
+  EXPECT_EQ(error_of("[scenario]\ncube_center_y_m = 2e7\n"),
+            "p.ini:2: [scenario] cube_center_y_m: scenario.cube_center_y_m = 2e+07: must be in [-1e7, 1e7] m");
+  EXPECT_EQ(error_of("[gd]\nstall_window = 200000\n"),
+            "p.ini:2: [gd] stall_window: gd.stall_window = 200000: must be in [1, 100000]");
+  // A rule across keys whose field's key is not given names the key without a line.
+  EXPECT_EQ(error_of("[scenario]\ncube_side_m = 3000\n"),
+            "[scenario] cube_center_x_m: scenario.cube_center_x_m = 1000: the start cube must lie entirely in front of "
+            "the BS (x > 0)");
+  // --set values are located as such.
+  common::IniConfig cfg;
+  cfg.set_override("gd.max_move_m=0");
+  EXPECT_EQ(error_of(cfg), "--set: [gd] max_move_m: gd.max_move_m = 0: must be a finite positive number");
+}
+
+}  // namespace
+}  // namespace losmimo::placement
