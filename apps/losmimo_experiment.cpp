@@ -16,6 +16,7 @@
 
 #include "losmimo/apps/experiment_app.h"
 #include "losmimo/coevaluation/extensions.h"
+#include "losmimo/experiment/channel_sweeps.h"
 
 namespace {
 
@@ -73,7 +74,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-  const losmimo::experiment::ExperimentExtensions extensions = losmimo::coevaluation::experiment_extensions();
+  losmimo::experiment::ExperimentExtensions extensions = losmimo::coevaluation::experiment_extensions();
+  for (auto& e : losmimo::experiment::channel_sweep_extensions()) extensions.push_back(std::move(e));
   if (merge->parsed()) return losmimo::apps::merge_experiment_app(merge_dirs, merge_out, extensions, std::cout, std::cerr);
 
 #ifdef LOSMIMO_WITH_MPI

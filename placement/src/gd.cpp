@@ -100,7 +100,8 @@ void GradientDescentPlanner::iterate(Swarm& swarm, int iteration) {
   for (int m = 0; m < nr; ++m) {
     swarm.move(m, plan_move(swarm, m, q_hat.col(m), iteration), MotionKind::kPlacement);
   }
-  if (options_.escape && stall_.update(swarm.channel().objective()) && try_escape(swarm)) {
+  const double f = swarm.channel().objective();
+  if (options_.escape && stall_.update(f) && swarm.escape_allowed(f) && try_escape(swarm)) {
     stall_.reset();
   }
 }

@@ -14,7 +14,10 @@ constexpr int kRefreshEvery = 256;
 }  // namespace
 
 SwarmChannel::SwarmChannel(const ChannelModel& model, const Eigen::Matrix3Xd& q_m)
-    : model_(&model), ld_(model.geometry().ld), H_(model.matrix(q_m)) {
+    : model_(&model),
+      side_(q_m.cols() < model.num_antennas() ? GramSide::kUavs : GramSide::kBsAntennas),
+      ld_(model.geometry().ld),
+      H_(model.matrix(q_m)) {
   const int nr = num_uavs(), nt = model.num_antennas();
   row_re_.assign(static_cast<std::size_t>(ld_) * nr, 0.0);
   row_im_.assign(static_cast<std::size_t>(ld_) * nr, 0.0);
@@ -24,16 +27,20 @@ SwarmChannel::SwarmChannel(const ChannelModel& model, const Eigen::Matrix3Xd& q_
       row_im_[static_cast<std::size_t>(m) * ld_ + k] = H_(m, k).imag();
     }
   }
-  gram_re_.assign(static_cast<std::size_t>(ld_) * nt, 0.0);
-  gram_im_.assign(static_cast<std::size_t>(ld_) * nt, 0.0);
+  if (side_ == GramSide::kBsAntennas) {
+    gram_re_.assign(static_cast<std::size_t>(ld_) * nt, 0.0);
+    gram_im_.assign(static_cast<std::size_t>(ld_) * nt, 0.0);
+  }
   refresh();
 }
 
 kernels::GramPlanes SwarmChannel::gram_planes() const {
+  if (side_ == GramSide::kUavs) throw std::logic_error("SwarmChannel::gram_planes: the swarm keeps the UAVs' Gram matrix");
   return {model_->num_antennas(), ld_, gram_re_.data(), gram_im_.data()};
 }
 
 const Eigen::MatrixXcd& SwarmChannel::gram() const {
+  if (side_ == GramSide::kUavs) return uav_gram_;
   if (gram_stale_) {
     const int nt = model_->num_antennas();
     gram_.resize(nt, nt);
@@ -49,6 +56,7 @@ const Eigen::MatrixXcd& SwarmChannel::gram() const {
 }
 
 bool SwarmChannel::gram_is_finite() const {
+  if (side_ == GramSide::kUavs) return uav_gram_.allFinite();
   bool finite = true;
   for (std::size_t i = 0; i < gram_re_.size(); ++i) {
     finite = finite && std::isfinite(gram_re_[i]) && std::isfinite(gram_im_[i]);
@@ -57,6 +65,7 @@ bool SwarmChannel::gram_is_finite() const {
 }
 
 double SwarmChannel::objective() const {
+  if (side_ == GramSide::kUavs) return uav_gram_objective();
   // sum_{l != k} |G_lk|^2: the leave-one-out energy of a zero row.
   const std::vector<double> zero(ld_, 0.0);
   return model_->kernels().leave_one_out_energy(gram_planes(), zero.data(), zero.data());
@@ -85,11 +94,14 @@ void SwarmChannel::replace_row(int m, const double* re, const double* im) {
   // Remove the old row's outer product, add the new one: O(Nt^2).
   double* old_re = row_re_.data() + static_cast<std::ptrdiff_t>(m) * ld_;
   double* old_im = row_im_.data() + static_cast<std::ptrdiff_t>(m) * ld_;
-  model_->kernels().gram_update(gram_re_.data(), gram_im_.data(), model_->num_antennas(), ld_, re, im, old_re, old_im);
+  if (side_ == GramSide::kBsAntennas) {
+    model_->kernels().gram_update(gram_re_.data(), gram_im_.data(), model_->num_antennas(), ld_, re, im, old_re, old_im);
+  }
   for (int k = 0; k < ld_; ++k) {
     old_re[k] = re[k];
     old_im[k] = im[k];
   }
+  if (side_ == GramSide::kUavs) update_uav_gram(m);
   for (Eigen::Index k = 0; k < H_.cols(); ++k) H_(m, k) = std::complex<double>(re[k], im[k]);
   gram_stale_ = true;
   ++version_;
@@ -97,6 +109,12 @@ void SwarmChannel::replace_row(int m, const double* re, const double* im) {
 }
 
 void SwarmChannel::refresh() {
+  if (side_ == GramSide::kUavs) {
+    rebuild_uav_gram();
+    updates_since_refresh_ = 0;
+    ++version_;
+    return;
+  }
   const Eigen::MatrixXcd G = H_.adjoint() * H_;
   // Exactly Hermitian from here on (the updates keep it so): the product need not be.
   const int nt = model_->num_antennas();
@@ -128,7 +146,9 @@ void UavObjective::check_current() const {
 
 double UavObjective::leave_one_out_energy() const {
   if (!have_F_A_) {
-    F_A_ = swarm_->model().kernels().leave_one_out_energy(swarm_->gram_planes(), swarm_->row_re(m_), swarm_->row_im(m_));
+    F_A_ = uav_side() ? uav_side_others_energy()
+                      : swarm_->model().kernels().leave_one_out_energy(swarm_->gram_planes(), swarm_->row_re(m_),
+                                                                       swarm_->row_im(m_));
     have_F_A_ = true;
   }
   return F_A_;
@@ -144,12 +164,14 @@ double UavObjective::objective_of_row(const Eigen::VectorXcd& x) const {
     re[k] = x(k).real();
     im[k] = x(k).imag();
   }
+  if (uav_side()) return uav_side_objective(re.data(), im.data(), nullptr);
   return swarm_->model().kernels().objective_of_row(swarm_->gram_planes(), swarm_->row_re(m_), swarm_->row_im(m_),
                                                     leave_one_out_energy(), re.data(), im.data());
 }
 
 double UavObjective::objective_at(const Eigen::Vector3d& q_m) const {
   check_current();
+  if (uav_side()) return uav_side_objective_at(q_m);
   const ChannelModel& model = swarm_->model();
   const double q[3] = {q_m.x(), q_m.y(), q_m.z()};
   return model.kernels().objective_at(model.geometry(), swarm_->gram_planes(), swarm_->row_re(m_),
@@ -158,6 +180,12 @@ double UavObjective::objective_at(const Eigen::Vector3d& q_m) const {
 
 Eigen::Vector3d UavObjective::gradient_at(const Eigen::Vector3d& q_m, double* objective) const {
   check_current();
+  if (uav_side()) {
+    double grad[3];
+    const double f = uav_side_gradient(q_m, grad);
+    if (objective) *objective = f;
+    return {grad[0], grad[1], grad[2]};
+  }
   const ChannelModel& model = swarm_->model();
   const double q[3] = {q_m.x(), q_m.y(), q_m.z()};
   double grad[3];
@@ -176,6 +204,11 @@ void UavObjective::objectives_at(const Eigen::Ref<const Eigen::Matrix3Xd>& q_m, 
   if (count < 1 || count > kLanes) {
     throw std::invalid_argument("UavObjective::objectives_at: " + std::to_string(count) + " candidates, at most " +
                                 std::to_string(kLanes));
+  }
+  if (uav_side()) {
+    if (with_current_row) f[0] = uav_side_objective(swarm_->row_re(m_), swarm_->row_im(m_), nullptr);
+    for (int c = 0; c < static_cast<int>(q_m.cols()); ++c) f[first + c] = uav_side_objective_at(q_m.col(c));
+    return;
   }
   const ChannelModel& model = swarm_->model();
   const int ld = model.geometry().ld;

@@ -44,9 +44,9 @@ double lattice_depth_band_m(const Scenario& s) {
 
 UraPlanner::UraPlanner(const Scenario& scenario, UraVariant variant)
     : scenario_(scenario), variant_(variant) {
-  if (scenario.num_uavs != scenario.num_bs_antennas()) {
+  if (scenario.num_uavs > scenario.num_bs_antennas()) {
     throw std::invalid_argument("ura: scenario.num_uavs = " + std::to_string(scenario.num_uavs) +
-                                " must equal bs_rows * bs_cols = " +
+                                " must be at most bs_rows * bs_cols = " +
                                 std::to_string(scenario.num_bs_antennas()));
   }
 }
@@ -96,9 +96,11 @@ void UraPlanner::start(Swarm& swarm) {
   Eigen::Matrix3Xd q_hat(3, n);
   for (int m = 0; m < n; ++m) q_hat.col(m) = swarm.estimate_position(m);
   const Eigen::Matrix3Xd rigid = optimal_ura_positions_m(scenario_);
-  Eigen::MatrixXd cost(n, n);
+  // n x Nt: with fewer UAVs than slots the assignment also picks which slots are used.
+  const int slots = static_cast<int>(rigid.cols());
+  Eigen::MatrixXd cost(n, slots);
   for (int m = 0; m < n; ++m) {
-    for (int slot = 0; slot < n; ++slot) {
+    for (int slot = 0; slot < slots; ++slot) {
       const Eigen::Vector3d target = variant_ == UraVariant::kRigid
                                          ? Eigen::Vector3d(rigid.col(slot))
                                          : nearest_lattice_point_m(slot, q_hat.col(m));

@@ -162,8 +162,8 @@ ExperimentSettings load_experiment_settings(const common::IniConfig& cfg, const 
       return a == Algorithm::kUra || a == Algorithm::kUraLattice || a == Algorithm::kUraLatticeExact;
     });
     const placement::Scenario& sc = s.placement.scenario;
-    if (builtin && has_ura && sc.num_uavs != sc.num_bs_antennas()) {
-      throw common::FieldError("algorithms", "ura needs scenario.num_uavs = bs_rows * bs_cols (" +
+    if (builtin && has_ura && sc.num_uavs > sc.num_bs_antennas()) {
+      throw common::FieldError("algorithms", "ura needs scenario.num_uavs <= bs_rows * bs_cols (" +
                                                  std::to_string(sc.num_bs_antennas()) + "), got " +
                                                  std::to_string(sc.num_uavs));
     }

@@ -1,7 +1,8 @@
 #pragma once
 // The placement settings an INI config holds, with the paper's values as defaults: sections
 // [scenario] (Scenario), [errors] (ErrorModel), [placement] (RunOptions), [gd] (GdOptions) and
-// [bf] (BfOptions). Every key, with its field, accepted values and meaning, is declared once in
+// [bf] (BfOptions) and [channel] (ChannelSettings: Rician fading, CSI estimation noise; written
+// to INI text only when not the default, so configs without them stay as they were). Every key, with its field, accepted values and meaning, is declared once in
 // the key table in settings.cpp (placement_keys(); common/key_table.h).
 
 #include <map>
@@ -11,6 +12,7 @@
 #include "losmimo/common/ini_config.h"
 #include "losmimo/common/key_table.h"
 #include "losmimo/placement/bf.h"
+#include "losmimo/placement/channel_conditions.h"
 #include "losmimo/placement/gd.h"
 
 namespace losmimo::placement {
@@ -21,6 +23,7 @@ struct PlacementSettings {
   RunOptions run;
   GdOptions gd;
   BfOptions bf;
+  ChannelSettings channel;
 };
 
 // The key table: one entry per key (section, key, field, accepted values, meaning).

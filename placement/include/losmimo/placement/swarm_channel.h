@@ -10,8 +10,13 @@
 // with s_l, u_l from ChannelModel::row_derivative_terms: also O(Nt^2). In the far field
 // (s_l = -j 2 pi / lambda) this is the paper's formula, summed over ordered pairs.
 // The arithmetic is in kernels.h (vectorised, the same bits on every instruction set).
+//
+// Fewer UAVs than antennas (Nr < Nt, metrics.h): the streams are the UAVs, and the swarm keeps
+// the UAVs' Gram matrix K = H H^H (Nr x Nr) instead, with f = sum_{j != l} |K_jl|^2 and
+// UAV m's view in O(Nr Nt) per probe (swarm_channel_uavs.cpp, plain scalar code).
 
 #include <Eigen/Core>
+#include <complex>
 #include <cstdint>
 #include <vector>
 
@@ -23,13 +28,17 @@ class SwarmChannel {
  public:
   SwarmChannel(const ChannelModel& model, const Eigen::Matrix3Xd& q_m);
 
+  // Which Gram matrix is kept: the BS antennas' when Nr >= Nt (the paper's), else the UAVs'.
+  enum class GramSide { kBsAntennas, kUavs };
+  GramSide gram_side() const { return side_; }
+
   int num_uavs() const { return static_cast<int>(H_.rows()); }
   const Eigen::MatrixXcd& H() const { return H_; }
   // G = H^H H (Nt x Nt), exactly Hermitian. Built from the kernels' planes on first use after
-  // a change (O(Nt^2)); the planners use gram_planes().
+  // a change (O(Nt^2)); the planners use gram_planes(). On the UAV side: K = H H^H (Nr x Nr).
   const Eigen::MatrixXcd& gram() const;
   const ChannelModel& model() const { return *model_; }
-  // f = sum_{l != k} |G_lk|^2.
+  // f = sum_{l != k} |G_lk|^2 (of K on the UAV side).
   double objective() const;
 
   // Replaces UAV m's row by its channel at q_m (O(Nt^2) update of the Gram matrix).
@@ -38,7 +47,8 @@ class SwarmChannel {
   // Recomputes the Gram matrix from H (clears accumulated rounding).
   void refresh();
 
-  // The kernels' view (kernels.h): G in split planes, and UAV m's row in split planes (ld long).
+  // The kernels' view (kernels.h): G in split planes (BS-antenna side only: std::logic_error on
+  // the UAV side), and UAV m's row in split planes (ld long).
   kernels::GramPlanes gram_planes() const;
   const double* row_re(int m) const { return row_re_.data() + static_cast<std::ptrdiff_t>(m) * ld_; }
   const double* row_im(int m) const { return row_im_.data() + static_cast<std::ptrdiff_t>(m) * ld_; }
@@ -49,8 +59,13 @@ class SwarmChannel {
 
  private:
   void replace_row(int m, const double* re, const double* im);
+  // The UAV side (swarm_channel_uavs.cpp).
+  void rebuild_uav_gram();
+  void update_uav_gram(int m);
+  double uav_gram_objective() const;
 
   const ChannelModel* model_;
+  GramSide side_;
   int ld_;
   Eigen::MatrixXcd H_;
   std::vector<double> row_re_, row_im_;  // H's rows, ld apart (pads 0)
@@ -59,10 +74,11 @@ class SwarmChannel {
   mutable bool gram_stale_ = true;
   int updates_since_refresh_ = 0;
   std::uint64_t version_ = 0;
+  Eigen::MatrixXcd uav_gram_;  // K on the UAV side (exactly Hermitian)
 };
 
 // What UAV m sees while the others stay put: the leave-one-out Gram matrix A, and f and
-// grad f as functions of its own row or position. Built in O(1): it reads the swarm's channel,
+// grad f as functions of its own row or position (on the UAV side: the others' rows, see above). Built in O(1): it reads the swarm's channel,
 // which must not change while the view is used (std::logic_error if it has: build a new view
 // after any move).
 class UavObjective {
@@ -84,7 +100,14 @@ class UavObjective {
 
  private:
   void check_current() const;
-  double leave_one_out_energy() const;  // F_A, computed on first use
+  double leave_one_out_energy() const;  // F_A (F_others on the UAV side), computed on first use
+  bool uav_side() const { return swarm_->gram_side() == SwarmChannel::GramSide::kUavs; }
+  // The UAV side (swarm_channel_uavs.cpp): F_others, f of a row in split planes (and the c_j),
+  // f at a position, and the gradient (returns f).
+  double uav_side_others_energy() const;
+  double uav_side_objective(const double* xr, const double* xi, std::vector<std::complex<double>>* c) const;
+  double uav_side_objective_at(const Eigen::Vector3d& q_m) const;
+  double uav_side_gradient(const Eigen::Vector3d& q_m, double* grad) const;
 
   const SwarmChannel* swarm_;
   int m_;
