@@ -3,6 +3,8 @@
 //   losmimo-experiment --shard i/N --out DIR_i ...                 one slice of the jobs
 //   losmimo-experiment merge DIR_0 ... DIR_N-1 --out DIR           shards -> one result
 //   losmimo-experiment --resume DIR ...                            continue an interrupted run
+// Every output folder is written in DIR.partial/ and renamed into place when complete; a folder
+// that already holds results is refused unless --replace (docs/reliability.md).
 //   mpirun -np K losmimo-experiment ...                            K ranks, rank 0 writes
 #include <CLI/CLI.hpp>
 #include <cstdlib>
@@ -52,31 +54,38 @@ std::vector<std::string> mpi_gather(const std::string& mine, int rank, int size)
 
 int main(int argc, char** argv) {
   losmimo::apps::ExperimentOptions options;
+  std::string out_dir = "results", shard, resume_dir;
   CLI::App app{"Monte Carlo placement experiments: the paper's Figs 1-3 (losmimo)"};
   app.add_option("--config", options.config_path, "INI config (default: the paper's setup, quick trial count)");
   app.add_option("--set", options.overrides, "override a key: section.key=value (repeatable)");
-  app.add_option("--out", options.out_dir, "output directory")->capture_default_str();
+  CLI::Option* out_option = app.add_option("--out", out_dir, "output directory")->capture_default_str();
   app.add_option("--trials", options.trials, "random starts per sweep point (paper: 500)")->check(CLI::PositiveNumber);
   app.add_option("--threads", options.threads, "worker threads (0: all cores); results do not depend on it")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--shard", options.shard,
+  CLI::Option* shard_option = app.add_option("--shard", shard,
                  "i/N: run only jobs j with j % N == i (0 <= i < N) into --out, for `merge`");
-  app.add_option("--resume", options.resume_dir,
-                 "continue the interrupted run in this folder (same config; finished points are kept)");
+  CLI::Option* resume_option = app.add_option("--resume", resume_dir,
+                 "continue the interrupted run of this output folder (same config; finished points are kept)");
+  app.add_flag("--replace", options.replace,
+               "replace the results already in the output folder (default: refuse, exit 2)");
 
-  std::vector<std::string> merge_dirs;
-  std::string merge_out = "results";
+  losmimo::apps::MergeOptions merge_options;
   CLI::App* merge = app.add_subcommand("merge", "merge the folders of shards 0..N-1 into one result");
-  merge->add_option("dirs", merge_dirs, "shard folders (written with --shard i/N)")->required();
-  merge->add_option("--out", merge_out, "output directory")->capture_default_str();
+  merge->add_option("dirs", merge_options.shard_dirs, "shard folders (written with --shard i/N)")->required();
+  merge->add_option("--out", merge_options.out_dir, "output directory")->capture_default_str();
+  merge->add_flag("--replace", merge_options.replace, "replace the results already in the output folder");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
+  // Given (even as ''), or not: an empty value is refused, not taken as "not given".
+  if (out_option->count() > 0) options.out_dir = out_dir;
+  if (shard_option->count() > 0) options.shard = shard;
+  if (resume_option->count() > 0) options.resume_dir = resume_dir;
   losmimo::experiment::ExperimentExtensions extensions = losmimo::coevaluation::experiment_extensions();
   for (auto& e : losmimo::experiment::channel_sweep_extensions()) extensions.push_back(std::move(e));
-  if (merge->parsed()) return losmimo::apps::merge_experiment_app(merge_dirs, merge_out, extensions, std::cout, std::cerr);
+  if (merge->parsed()) return losmimo::apps::merge_experiment_app(merge_options, extensions, std::cout, std::cerr);
 
 #ifdef LOSMIMO_WITH_MPI
   if (launched_by_mpirun()) {

@@ -2,8 +2,7 @@
 // Exit codes: 0 complete log replayed, 1 runtime failure or truncated/corrupt log (its readable
 // prefix replayed), 2 bad input, 3 complete log of a run that was ended by a fault (the status
 // and the reason from the log are printed; everything up to the fault is replayed).
-#include <sys/resource.h>
-
+// Foreign rawlogs are parsed in a bounded child process (rawlog/sandbox.h).
 #include <CLI/CLI.hpp>
 #include <iostream>
 
@@ -16,22 +15,16 @@ int main(int argc, char** argv) {
   app.add_option("--estimator", options.estimator, "ekf or pf (default: as recorded)");
   app.add_flag("--refine", options.refine, "Ceres sliding-window refinement (default: as recorded)");
   app.add_flag("--no-refine", options.no_refine, "no refinement");
-  app.add_option("--out", options.out_dir, "write estimates.csv, epochs.csv, summary.csv here");
-  app.add_flag("--strict", options.strict, "stop at object classes the reader cannot bound");
+  CLI::Option* out_option =
+      app.add_option("--out", options.out_dir, "write estimates.csv, epochs.csv, summary.csv into this new folder");
+  app.add_flag("--replace", options.replace, "replace an earlier replay in the --out folder (default: refuse, exit 2)");
+  app.add_flag("--strict", options.strict,
+               "stop at object classes the reader cannot bound, instead of parsing them in the sandbox");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-#if !defined(__SANITIZE_ADDRESS__)
-  // Backstop for foreign classes MRPT parses unchecked: a corrupted length then fails with
-  // bad_alloc (reported) instead of taking the machine's memory.
-  const rlim_t kAddressSpace = rlim_t{8} << 30;
-  rlimit limit{};
-  if (getrlimit(RLIMIT_AS, &limit) == 0 && (limit.rlim_cur == RLIM_INFINITY || limit.rlim_cur > kAddressSpace)) {
-    limit.rlim_cur = kAddressSpace;
-    setrlimit(RLIMIT_AS, &limit);
-  }
-#endif
+  options.out_given = out_option->count() > 0;
   return losmimo::apps::run_replay_app(options, std::cout, std::cerr);
 }

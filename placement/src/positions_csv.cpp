@@ -1,3 +1,4 @@
+#include "losmimo/common/bounded_read.h"
 #include "losmimo/common/input_error.h"
 #include "losmimo/placement/positions_csv.h"
 
@@ -33,9 +34,11 @@ Eigen::Matrix3Xd parse_positions_csv(std::istream& in, const std::string& origin
   std::string line;
   int line_no = 0;
   bool seen_data = false;
-  while (std::getline(in, line)) {
+  while (common::getline_bounded(in, line, common::kMaxPositionsLineBytes, origin + ":" + std::to_string(line_no + 1))) {
     ++line_no;
     const std::string where = origin + ":" + std::to_string(line_no);
+    // A UTF-8 byte-order mark (written by some editors) is not part of the first field.
+    if (line_no == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
     const std::string content = strip(line);
     if (content.empty() || content.front() == '#') continue;
     const std::vector<std::string> fields = split_fields(content);
@@ -70,8 +73,7 @@ Eigen::Matrix3Xd parse_positions_csv(std::istream& in, const std::string& origin
 }
 
 Eigen::Matrix3Xd read_positions_csv(const std::string& path, int max_rows) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw common::InputError(path + ": cannot open positions file");
+  std::istringstream in(common::read_file_bounded(path, common::kMaxPositionsBytes, "positions file"));
   return parse_positions_csv(in, path, max_rows);
 }
 

@@ -50,7 +50,7 @@ std::vector<common::Key<RunOptions>> run_keys() {
   using K = common::Key<RunOptions>;
   return {
       K::real("placement", "target_icn", &RunOptions::target_icn, {}, "the run stops at this ICN", "0.9"),
-      K::integer("placement", "max_iterations", &RunOptions::max_iterations, 0, 10'000'000,
+      K::integer("placement", "max_iterations", &RunOptions::max_iterations, 1, 10'000'000,
                  "the run stops after this many iterations", "50"),
   };
 }

@@ -162,12 +162,13 @@ TEST(ExperimentConfig, BadValues_StopBeforeAnyWorkNamingTheKey) {
   for (const auto& [override_text, key] : cases) {
     losmimo::apps::ExperimentOptions o;
     o.out_dir = (fs::path(::testing::TempDir()) / ("losmimo_exp_bad_" + std::to_string(::getpid()))).string();
-    fs::remove_all(o.out_dir);
+    fs::remove_all(*o.out_dir);
     o.overrides = {override_text};
     std::string err;
     EXPECT_EQ(run(o, &err), 2) << override_text;
     EXPECT_NE(err.find(key), std::string::npos) << err;
-    EXPECT_FALSE(fs::exists(o.out_dir)) << "work started for " << override_text;
+    EXPECT_FALSE(fs::exists(*o.out_dir)) << "work started for " << override_text;
+    EXPECT_FALSE(fs::exists(*o.out_dir + ".partial")) << "work started for " << override_text;
   }
 }
 

@@ -1,8 +1,9 @@
-// --resume: a run killed with SIGKILL mid-sweep, resumed, gives byte-identical
-// results to an uninterrupted run; a resume with another config stops with exit code 2.
-// Runs the real losmimo-experiment binary.
+// --resume: a run killed with SIGKILL mid-sweep (at a pause point, common/test_hook.h), resumed,
+// gives byte-identical results to an uninterrupted run; a resume with another config stops with
+// exit code 2. Runs the real losmimo-experiment binary.
 #include <gtest/gtest.h>
 
+#include "apps/pause_point.h"
 #include "support/child_process.h"
 #include "support/files.h"
 
@@ -15,25 +16,11 @@
 #include <thread>
 #include <vector>
 
-// Runs the real losmimo-experiment binary (LOSMIMO_EXPERIMENT_APP) as a child process.
-#include <cerrno>
-#include <csignal>
-#include <cstdlib>
-#include <fcntl.h>
-#include <string>
-#include <sys/wait.h>
-#include <unistd.h>
-#include <vector>
-
-
-
 namespace fs = std::filesystem;
 namespace lt = losmimo::test_support;
 
 namespace {
 constexpr int kPointsBeforeKill = 2;  // of 8
-constexpr auto kPollInterval = std::chrono::milliseconds(2);
-constexpr auto kKillDeadline = std::chrono::seconds(300);
 
 using losmimo::test_support::read_file;
 
@@ -73,29 +60,27 @@ TEST(ExperimentResume, KilledMidSweep_ResumesToByteIdenticalResults) {
   fs::create_directories(root);
   const fs::path whole = root / "whole";
   const fs::path killed = root / "killed";
+  const fs::path staging = root / "killed.partial";
 
-  // GIVEN: an uninterrupted run, and the same run killed after kPointsBeforeKill points.
+  // GIVEN: an uninterrupted run, and the same run killed once kPointsBeforeKill points are done.
   ASSERT_EQ(lt::run_process(app_args(whole), (root / "whole.log").string()), 0) << read_file(root / "whole.log");
-  const pid_t pid = lt::spawn(app_args(killed), (root / "killed.log").string());
-  ASSERT_GT(pid, 0);
-  const auto deadline = std::chrono::steady_clock::now() + kKillDeadline;
-  while (count_done_points(killed / "records.partial") < kPointsBeforeKill &&
-         std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(kPollInterval);
-  }
-  ASSERT_EQ(::kill(pid, SIGKILL), 0);
-  ASSERT_EQ(lt::wait_for(pid), 128 + SIGKILL) << "the run ended before it could be killed";
-  ASSERT_FALSE(fs::exists(killed / "trials.csv")) << "killed too late: the sweep had finished";
-  ASSERT_TRUE(fs::exists(killed / "trials.csv.partial"));
-  const int done_at_kill = count_done_points(killed / "records.partial");
-  EXPECT_GE(done_at_kill, kPointsBeforeKill);
-  EXPECT_LT(done_at_kill, 8);
+  const lt::PausedProcess p = lt::spawn_until_paused(app_args(killed), (root / "killed.log").string(),
+                                                     "experiment.point_done#" + std::to_string(kPointsBeforeKill));
+  ASSERT_TRUE(p.paused) << read_file(root / "killed.log");
+  ASSERT_EQ(lt::interrupt(p, SIGKILL), 128 + SIGKILL);
+  // THEN: nothing under the output folder's name; the checkpoint in its staging folder.
+  ASSERT_FALSE(fs::exists(killed));
+  ASSERT_TRUE(fs::exists(staging / "trials.csv.partial"));
+  EXPECT_EQ(count_done_points(staging / "records.partial"), kPointsBeforeKill);
 
   // WHEN: resumed with another config: refused, nothing touched.
-  const std::string partial_before = read_file(killed / "records.partial");
+  const std::string partial_before = read_file(staging / "records.partial");
   EXPECT_EQ(lt::run_process(resume_args(killed, "7"), (root / "mismatch.log").string()), 2);
   EXPECT_NE(read_file(root / "mismatch.log").find("config.ini"), std::string::npos) << read_file(root / "mismatch.log");
-  EXPECT_EQ(read_file(killed / "records.partial"), partial_before);
+  EXPECT_EQ(read_file(staging / "records.partial"), partial_before);
+  // AND: a fresh run into the same folder is refused too (it would discard the checkpoint).
+  EXPECT_EQ(lt::run_process(app_args(killed), (root / "fresh.log").string()), 2);
+  EXPECT_NE(read_file(root / "fresh.log").find("interrupted run"), std::string::npos) << read_file(root / "fresh.log");
 
   // WHEN: resumed with the same config (and another thread count).
   ASSERT_EQ(lt::run_process(resume_args(killed), (root / "resume.log").string()), 0) << read_file(root / "resume.log");
@@ -105,10 +90,12 @@ TEST(ExperimentResume, KilledMidSweep_ResumesToByteIdenticalResults) {
     ASSERT_GT(read_file(whole / f).size(), 100u) << f;
     EXPECT_EQ(read_file(killed / f), read_file(whole / f)) << f;
   }
+  EXPECT_FALSE(fs::exists(staging));
   for (const char* f : {"trials.csv.partial", "positions.csv.partial", "records.partial"}) {
     EXPECT_FALSE(fs::exists(killed / f)) << f;
   }
-  EXPECT_NE(read_file(root / "resume.log").find("already finished"), std::string::npos);
+  EXPECT_NE(read_file(root / "resume.log").find("2 of 8 points already finished"), std::string::npos)
+      << read_file(root / "resume.log");
   fs::remove_all(root);
 }
 

@@ -1,5 +1,6 @@
 // --shard i/N and `merge`: the merged shards are byte-identical to one process; bad shard
 // specs, shards of another config and missing or repeated shards stop with exit code 2.
+// (Interrupted shards and damaged records: experiment_interrupt_test.cpp, records_proof_test.cpp.)
 #include <gtest/gtest.h>
 
 #include "support/files.h"
@@ -45,10 +46,11 @@ int run(const losmimo::apps::ExperimentOptions& o, std::string* err_text = nullp
 }
 
 int merge(const std::vector<fs::path>& dirs, const fs::path& out_dir, std::string* err_text = nullptr) {
-  std::vector<std::string> d;
-  for (const fs::path& p : dirs) d.push_back(p.string());
+  losmimo::apps::MergeOptions o;
+  for (const fs::path& p : dirs) o.shard_dirs.push_back(p.string());
+  o.out_dir = out_dir.string();
   std::ostringstream out, err;
-  const int code = losmimo::apps::merge_experiment_app(d, out_dir.string(), {}, out, err);
+  const int code = losmimo::apps::merge_experiment_app(o, {}, out, err);
   if (err_text) *err_text = err.str();
   return code;
 }
@@ -62,7 +64,7 @@ class ExperimentShards : public ::testing::Test {
     for (int i = 0; i < kShards; ++i) {
       losmimo::apps::ExperimentOptions o = tiny(shard_dir(i), 1 + i % 2);
       o.shard = std::to_string(i) + "/" + std::to_string(kShards);
-      ASSERT_EQ(run(o), 0) << o.shard;
+      ASSERT_EQ(run(o), 0) << *o.shard;
     }
   }
   static void TearDownTestSuite() { fs::remove_all(root_); }
@@ -113,7 +115,8 @@ TEST_F(ExperimentShards, EveryJobRunsInExactlyOneShard) {
   std::size_t rows = 0;
   for (int i = 0; i < kShards; ++i) {
     std::ifstream in(shard_dir(i) / "records.csv");
-    const losmimo::experiment::RecordLines lines = losmimo::experiment::parse_record_lines(in, "records.csv", false);
+    const losmimo::experiment::RecordLines lines =
+        losmimo::experiment::read_records(in, "records.csv", losmimo::experiment::RecordsMode::kComplete);
     for (const auto& [point, records] : lines.points) {
       for (const losmimo::experiment::TrialRecord& r : records) {
         EXPECT_EQ((point * 3 + r.trial) % kShards, i) << "point " << point << " trial " << r.trial;
@@ -141,7 +144,7 @@ TEST_F(ExperimentShards, RepeatedShard_Exits2) {
 TEST_F(ExperimentShards, NotAShardFolder_Exits2) {
   std::string err;
   EXPECT_EQ(merge({shard_dir(0), root_ / "single", shard_dir(2)}, root_ / "m_notshard", &err), 2);
-  EXPECT_NE(err.find("shard.ini"), std::string::npos) << err;
+  EXPECT_NE(err.find("holds a finished experiment, not a shard"), std::string::npos) << err;
 }
 
 TEST_F(ExperimentShards, ShardOfAnotherConfig_Exits2) {
@@ -169,27 +172,29 @@ TEST_F(ExperimentShards, ShardsOfAnotherCount_Exit2) {
 TEST_F(ExperimentShards, TruncatedShardRecords_Exit2) {
   const fs::path copy = root_ / "truncated";
   fs::create_directories(copy);
-  for (const char* f : {"config.ini", "shard.ini"}) fs::copy_file(shard_dir(1) / f, copy / f);
+  for (const char* f : {"config.ini", "losmimo-run.ini"}) fs::copy_file(shard_dir(1) / f, copy / f);
   const std::string records = read_file(shard_dir(1) / "records.csv");
   std::ofstream(copy / "records.csv", std::ios::binary) << records.substr(0, records.size() / 2);
+  // The manifest catches the change first; without it (listing nothing) the records do.
   std::string err;
   EXPECT_EQ(merge({shard_dir(0), copy, shard_dir(2)}, root_ / "m_truncated", &err), 2);
 }
 
 namespace {
-// A copy of shard i whose shard.ini keeps only the lines for which `keep` is true, plus `extra`.
+// A copy of shard i whose manifest keeps only the lines for which `keep` is true, plus `extra`
+// (in its [shard] section).
 fs::path copy_shard(const fs::path& root, int i, const std::string& name, bool (*keep)(const std::string&),
                     const std::string& extra = "") {
   const fs::path src = fs::path(root) / ("shard" + std::to_string(i));
   const fs::path dst = fs::path(root) / name / ("shard" + std::to_string(i));
   fs::create_directories(dst);
   for (const char* f : {"config.ini", "records.csv"}) fs::copy_file(src / f, dst / f, fs::copy_options::overwrite_existing);
-  std::istringstream in(read_file(src / "shard.ini"));
-  std::ofstream out(dst / "shard.ini", std::ios::binary);
+  std::istringstream in(read_file(src / "losmimo-run.ini"));
+  std::ofstream out(dst / "losmimo-run.ini", std::ios::binary);
   for (std::string line; std::getline(in, line);) {
     if (keep(line)) out << line << "\n";
+    if (line == "[shard]") out << extra;
   }
-  out << extra;
   return dst;
 }
 bool keep_all(const std::string&) { return true; }
@@ -197,7 +202,7 @@ bool drop_timing(const std::string& line) { return line.rfind("wall_s", 0) != 0 
 bool drop_wall(const std::string& line) { return line.rfind("wall_s", 0) != 0; }
 
 double shard_wall_s(const fs::path& dir) {
-  std::istringstream in(read_file(dir / "shard.ini"));
+  std::istringstream in(read_file(dir / "losmimo-run.ini"));
   for (std::string line; std::getline(in, line);) {
     if (line.rfind("wall_s = ", 0) == 0) return std::stod(line.substr(9));
   }

@@ -196,6 +196,9 @@ TEST(KeyTable, Markdown_ListsEveryKeyWithDefaultRuleAndMeaning) {
             std::string::npos)
       << md;
   EXPECT_EQ(std::count(md.begin(), md.end(), '\n'), 2 + static_cast<long>(toy_keys().keys().size()));
+  // A '|' in a rule is escaped: it must not end the table cell.
+  EXPECT_EQ(md.find("true | false"), std::string::npos) << md;
+  EXPECT_NE(md.find("| true \\| false |"), std::string::npos) << md;
 }
 
 TEST(KeyTable, ABadTable_IsRefusedWhenBuilt) {

@@ -56,7 +56,7 @@ TEST(ExperimentKeys, ChecksAcrossKeys_NameTheKey) {
   EXPECT_EQ(error_of("[scenario]\nnum_uavs = 20\n"),
             "[experiment] algorithms: ura needs scenario.num_uavs <= bs_rows * bs_cols (16), got 20");
   EXPECT_EQ(error_of("[scenario]\nnum_uavs = 20\n[experiment]\nalgorithms = gd, ura_lattice\n"),
-            "e.ini:4: [experiment] algorithms: ura needs scenario.num_uavs <= bs_rows * bs_cols (16), got 20");
+            "e.ini:4: [experiment] algorithms: ura_lattice needs scenario.num_uavs <= bs_rows * bs_cols (16), got 20");
   EXPECT_EQ(error_of("[scenario]\nnum_uavs = 20\n[experiment]\nalgorithms = gd, bf\n"), "accepted");
   EXPECT_EQ(error_of("[scenario]\nnum_uavs = 9\n"), "accepted");  // 9 of the 16 slots
 }

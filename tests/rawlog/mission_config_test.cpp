@@ -87,6 +87,7 @@ TEST(RecordAppFaults, UnresponsiveUav_ExitCode3WithTheReasonAndAClosedLog) {
   apps::RecordAppOptions options;
   options.overrides = {"closed_loop.faults=unresponsive:5:3", "placement.max_iterations=50"};
   options.out_path = out_path;
+  options.replace = true;  // the test's file from an earlier run
   std::ostringstream out, err;
   // WHEN
   const int code = apps::run_record_app(options, out, err);

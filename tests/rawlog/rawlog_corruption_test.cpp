@@ -58,7 +58,7 @@ const Recorded& recorded() {
 // Strict reader (nothing MRPT parses unchecked) + the interpreter, on bytes.
 MissionLog load_bytes(const std::string& bytes) {
   RawlogReaderOptions strict;
-  strict.parse_unscanned_classes = false;
+  strict.foreign = ForeignObjects::kStop;
   RawlogReader reader = RawlogReader::from_bytes(bytes, strict);
   return load_mission_log(reader);
 }

@@ -88,7 +88,7 @@ AppRun replay_app(const std::string& bytes, const std::string& name) {
   write_file_bytes(path, bytes);
   std::ostringstream out, err;
   AppRun a;
-  a.code = apps::run_replay_app({path, "", false, false, temp_path(name + "_out"), false}, out, err);
+  a.code = apps::run_replay_app({path, "", false, false, temp_path(name + "_out"), false, true}, out, err);
   a.out = out.str();
   a.err = err.str();
   a.summary_csv = read_file(temp_path(name + "_out") + "/summary.csv");

@@ -94,7 +94,7 @@ struct AppRun {
 AppRun replay_app(const std::string& path, const std::string& out_dir) {
   std::ostringstream out, err;
   AppRun a;
-  a.code = apps::run_replay_app({path, "", false, false, out_dir, false}, out, err);
+  a.code = apps::run_replay_app({path, "", false, false, out_dir, false, true}, out, err);
   a.out = out.str();
   a.err = err.str();
   a.summary_csv = read_file(out_dir + "/summary.csv");

@@ -183,7 +183,7 @@ TEST(RawlogReplay, MissionKilledMidway_LeavesAReadablePrefix) {
   EXPECT_EQ(r.filter_beliefs_bitwise_equal, 4 * (kKillEpoch + 1));
   // AND: the app replays the prefix and exits 1 with the reason.
   std::ostringstream out, err;
-  EXPECT_EQ(apps::run_replay_app({path, "", false, false, temp_path("killed_out"), false}, out, err), 1);
+  EXPECT_EQ(apps::run_replay_app({path, "", false, false, temp_path("killed_out"), false, true}, out, err), 1);
   EXPECT_NE(err.str().find("partial"), std::string::npos) << err.str();
 }
 
@@ -193,7 +193,7 @@ TEST(RawlogReplay, App_ExitCodesAndOutputs) {
   EXPECT_EQ(apps::run_replay_app({"/nonexistent.rawlog", "", false, false, "", false}, out, err), 2);
   EXPECT_EQ(apps::run_replay_app({nominal, "ukf", false, false, "", false}, out, err), 2);
   const std::string dir = temp_path("app_out");
-  EXPECT_EQ(apps::run_replay_app({nominal, "pf", false, false, dir, false}, out, err), 0) << err.str();
+  EXPECT_EQ(apps::run_replay_app({nominal, "pf", false, false, dir, false, true}, out, err), 0) << err.str();
   EXPECT_FALSE(read_file(dir + "/summary.csv").empty());
   EXPECT_NE(out.str().find("rmse_m"), std::string::npos);
 }

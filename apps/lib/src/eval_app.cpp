@@ -11,6 +11,7 @@
 #include "losmimo/placement/metrics.h"
 #include "losmimo/placement/positions_csv.h"
 #include "losmimo/placement/settings.h"
+#include "messages.h"
 
 namespace losmimo::apps {
 
@@ -53,8 +54,10 @@ int run_eval_app(const EvalOptions& options, std::ostream& out, std::ostream& er
     common::IniConfig config =
         options.config_path.empty() ? common::IniConfig() : common::IniConfig::from_file(options.config_path);
     for (const std::string& o : options.overrides) config.set_override(o);
-    // An experiment config (e.g. datasets/configs/paper.ini) is a valid scenario source too.
+    // An experiment config (e.g. datasets/configs/paper.ini) is a valid scenario source too; its
+    // [experiment] keys are not used here, but checked like everything else.
     config.require_known(experiment::experiment_config_keys());
+    if (config.has_section("experiment")) experiment::load_experiment_settings(config);
     const PlacementSettings settings = load_placement_settings(config);
     const Eigen::Matrix3Xd q_m = read_positions_csv(options.positions_path);
     const ChannelModel model(settings.scenario);
@@ -74,7 +77,7 @@ int run_eval_app(const EvalOptions& options, std::ostream& out, std::ostream& er
     }
     return kExitOk;
   } catch (const common::InputError& e) {
-    err << "losmimo-eval: " << e.what() << "\n";
+    print_error(err, "losmimo-eval", e.what());
     return kExitBadInput;
   }
 }

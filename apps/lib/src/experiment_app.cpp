@@ -4,39 +4,43 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
-#include <map>
+#include <set>
 #include <sstream>
 #include <thread>
 #include <tuple>
-#include <unistd.h>
 
+#include "experiment_common.h"
 #include "losmimo/apps/exit_codes.h"
 #include "losmimo/common/atomic_file.h"
 #include "losmimo/common/format.h"
 #include "losmimo/common/ini_config.h"
 #include "losmimo/common/input_error.h"
+#include "losmimo/common/staged_output.h"
+#include "losmimo/common/test_hook.h"
 #include "losmimo/experiment/csv.h"
 #include "losmimo/experiment/records.h"
 #include "losmimo/experiment/report.h"
 #include "losmimo/experiment/run_folder.h"
 #include "losmimo/experiment/shards.h"
+#include "messages.h"
 
 namespace losmimo::apps {
 
 using namespace experiment;  // the app is a thin layer over the engine's vocabulary
 using common::InputError;
-using common::IniConfig;
+using common::StagedDir;
 using common::write_file_atomically;
 
 namespace {
 namespace fs = std::filesystem;
+constexpr const char* kApp = "losmimo-experiment";
 
 ExperimentSettings load_settings(const ExperimentOptions& options, const ExperimentExtensions& extensions) {
   common::IniConfig config = options.config_path.empty() ? common::IniConfig() : common::IniConfig::from_file(options.config_path);
   for (const std::string& o : options.overrides) config.set_override(o);
-  if (options.trials > 0) config.set("experiment", "trials", std::to_string(options.trials));
-  if (options.threads >= 0) config.set("experiment", "threads", std::to_string(options.threads));
+  // Named after their option in messages, not "--set".
+  if (options.trials > 0) config.set("experiment", "trials", std::to_string(options.trials), "--trials");
+  if (options.threads >= 0) config.set("experiment", "threads", std::to_string(options.threads), "--threads");
   return load_experiment_settings(config, extensions);
 }
 
@@ -45,273 +49,257 @@ int threads_of(const ExperimentSettings& settings) {
                               : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
-class Progress {
- public:
-  explicit Progress(std::ostream& err) : err_(err), tty_(isatty(STDERR_FILENO) != 0), t0_(clock::now()) {}
-  void operator()(int done, int total, const std::string& label) {
-    const double elapsed = std::chrono::duration<double>(clock::now() - t0_).count();
-    const double eta = done > 0 ? elapsed * (total - done) / done : 0.0;
-    if (tty_) {
-      constexpr int kWidth = 30;
-      const int filled = kWidth * done / total;
-      err_ << "\r[" << std::string(filled, '#') << std::string(kWidth - filled, '.') << "] " << done << "/"
-           << total << "  " << std::fixed << std::setprecision(0) << elapsed << " s, ETA " << eta << " s   "
-           << (done == total ? "\n" : "") << std::flush;
-    } else {
-      err_ << "point " << done << "/" << total << " done (" << label << "), " << std::fixed << std::setprecision(1)
-           << elapsed << " s elapsed, ETA " << eta << " s\n";
+// The trials of `point` that are the slice's jobs.
+std::set<int> slice_trials(const ExperimentSlice& slice, int point, int trials) {
+  std::set<int> mine;
+  for (int t = 0; t < trials; ++t) {
+    if ((static_cast<long long>(point) * trials + t) % slice.shard_count == slice.shard_index) mine.insert(t);
+  }
+  return mine;
+}
+
+bool same_folder(const std::string& a, const std::string& b) {
+  const auto norm = [](const std::string& p) {
+    fs::path n = fs::absolute(p).lexically_normal();
+    return n.has_filename() ? n : n.parent_path();
+  };
+  return norm(a) == norm(b);
+}
+
+// --resume DIR (or DIR.partial, the staging folder itself): the run's final folder.
+std::string resume_target(const std::string& given) {
+  const std::string suffix = common::kStagingSuffix;
+  std::string dir = given;
+  while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+  if (dir.size() > suffix.size() && dir.compare(dir.size() - suffix.size(), suffix.size(), suffix) == 0 &&
+      fs::exists(fs::path(dir) / "records.partial")) {
+    return dir.substr(0, dir.size() - suffix.size());
+  }
+  return given;
+}
+
+// Locks the interrupted run's staging folder; "nothing to resume" if there is none.
+StagedDir open_for_resume(const std::string& dir, bool replace) {
+  const fs::path staging = StagedDir::staging_path_of(dir);
+  if (!fs::is_directory(staging)) {
+    if (fs::exists(fs::path(dir) / common::kManifestName)) {
+      const common::IniConfig m = common::read_manifest(dir);
+      throw InputError("--resume " + dir + ": holds a finished " + m.get_string("run", "kind", "run") +
+                       ": nothing to resume");
+    }
+    throw InputError("--resume " + dir + ": nothing to resume (no interrupted run in " + staging.string() + ")");
+  }
+  return StagedDir::resume(dir, replace);
+}
+
+// Checks an interrupted run's checkpoint against the config and fills the slice from it.
+// Returns whether it is a shard's.
+bool load_checkpoint(const StagedDir& staged, const ExperimentOptions& options, const ExperimentSettings& settings,
+                     const ExperimentExtensions& extensions, ExperimentSlice& slice) {
+  const fs::path dir = staged.path();
+  const ExperimentSettings stored = load_stored_settings((dir / "config.ini").string(), extensions);
+  const std::string diff = first_difference(results_config(stored), results_config(settings));
+  if (!diff.empty()) throw InputError("--resume " + dir.string() + ": the config differs from its config.ini: " + diff);
+  Checkpoint c = read_checkpoint(dir.string());
+  const std::string records = (dir / "records.partial").string();
+  if (c.header.config_digest != config_digest(stored)) {
+    throw InputError(records + ": written for another config than " + (dir / "config.ini").string() +
+                     " (its config digest differs): the folder mixes two runs");
+  }
+  const bool shard = c.header.kind == kRecordsKindShard;
+  if (options.shard) {
+    const auto [i, n] = parse_shard(*options.shard);
+    if (!shard || i != c.header.shard_index || n != c.header.shard_count) {
+      throw InputError("--shard " + *options.shard + ": the interrupted run in " + dir.string() + " is " +
+                       (shard ? "shard " + std::to_string(c.header.shard_index) + "/" + std::to_string(c.header.shard_count)
+                              : std::string("a whole run")));
     }
   }
-
- private:
-  using clock = std::chrono::steady_clock;
-  std::ostream& err_;
-  bool tty_;
-  clock::time_point t0_;
-};
-// Writes the outputs after the runs, prints their warnings and the last line.
-void report_finished(const ExperimentSettings& settings, const ExperimentExtensions& extensions,
-                     const ExperimentResults& results, const fs::path& dir, const RunTiming& timing,
-                     bool trial_files_written, std::ostream& out, std::ostream& err) {
-  for (const std::string& w :
-       finish_outputs(settings, extensions, results, dir.string(), timing, trial_files_written)) {
-    err << "losmimo-experiment: warning: " << w << "\n";
+  slice.shard_index = c.header.shard_index;
+  slice.shard_count = c.header.shard_count;
+  for (const auto& [point, rows] : c.finished) {
+    check_point_jobs(records, point, rows, slice_trials(slice, point, settings.trials));
   }
-  out << "losmimo-experiment: " << results.records.size() << " trial rows, " << settings.trials
-      << " trials per point, " << describe(timing) << "; results in " << dir.string()
-      << "/ (report.md, summary.csv, trials.csv, fig*.png)\n";
+  slice.finished_points = std::move(c.finished);
+  return shard;
 }
+
+// MPI: every rank runs its slice in memory; rank 0 gathers, verifies, merges and writes.
+int run_collective(const ExperimentOptions& options, const ExperimentExtensions& extensions,
+                   const ExperimentSettings& settings, ExperimentSlice slice, const std::string& dir,
+                   const ExperimentCollective& collective, std::ostream& out, std::ostream& err) {
+  const bool root = collective.rank == 0;
+  const int threads = threads_of(settings);
+  std::string mine;
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    slice.traces = false;
+    detail::Progress progress(err);
+    RecordsWriter writer;
+    mine = writer.header({kRecordsKindShard, collective.rank, collective.size, config_digest(settings)});
+    run_experiment(settings, extensions, threads, slice, root ? ProgressFn(std::ref(progress)) : ProgressFn(),
+                   [&](int point, const std::vector<TrialRecord>& rows) { mine += writer.point(point, rows); });
+    mine += writer.end();
+  } catch (const std::exception& e) {
+    mine = std::string("!") + e.what();  // reported by rank 0; the gather must still happen
+  }
+  const std::vector<std::string> all = collective.gather(mine);
+  if (!root) return mine.rfind('!', 0) == 0 ? kExitFailure : kExitOk;
+  std::vector<RecordLines> shards;
+  std::vector<std::string> origins;
+  for (std::size_t r = 0; r < all.size(); ++r) {
+    origins.push_back("rank " + std::to_string(r));
+    if (all[r].rfind('!', 0) == 0) throw std::runtime_error(origins.back() + ": " + all[r].substr(1));
+    std::istringstream in(all[r]);
+    shards.push_back(read_records(in, origins.back(), RecordsMode::kComplete));
+    const RecordsHeader& h = shards.back().header;
+    if (h.shard_index != static_cast<int>(r) || h.shard_count != collective.size || h.config_digest != config_digest(settings)) {
+      throw std::runtime_error(origins.back() + ": its records are not this run's rank " + std::to_string(r));
+    }
+  }
+  ExperimentResults results = merge_shard_records(settings, shards, origins);
+  results.traces = traced_runs(settings);
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  StagedDir staged = StagedDir::create(dir, options.replace, common::StaleStaging::kRefuse);
+  detail::finish_and_publish(staged, "experiment", settings, extensions, results, {wall_s, threads * collective.size},
+                             false, out, err);
+  return kExitOk;
+}
+
 }  // namespace
 
 int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensions& extensions,
                        std::ostream& out, std::ostream& err) {
   ExperimentSettings settings;
   ExperimentSlice slice;
-  const bool resume = !options.resume_dir.empty();
+  const bool resume = options.resume_dir.has_value();
   const ExperimentCollective* collective = options.collective && options.collective->size > 1 ? options.collective : nullptr;
-  const bool root = !collective || collective->rank == 0;
-  const fs::path dir(resume ? options.resume_dir : options.out_dir);
+  std::string dir;
+  std::optional<StagedDir> staged;
+  bool shard_run = options.shard.has_value();
+  // Everything that can be wrong with the input is found here, before any work or any file.
   try {
-    settings = load_settings(options, extensions);
-    if (!options.shard.empty()) std::tie(slice.shard_index, slice.shard_count) = parse_shard(options.shard);
-    if (resume && (!options.shard.empty() || collective)) {
-      throw common::InputError("--resume runs a whole experiment: not with --shard or MPI");
+    if (options.out_dir && options.out_dir->empty()) throw InputError("--out '': an output folder is required");
+    if (resume && options.resume_dir->empty()) throw InputError("--resume '': the folder of an interrupted run is required");
+    dir = resume ? resume_target(*options.resume_dir) : options.out_dir.value_or("results");
+    if (resume && options.out_dir && !same_folder(*options.out_dir, dir)) {
+      throw InputError("--out " + *options.out_dir + ": --resume " + dir + " finishes the run in " + dir +
+                       " itself; leave out --out, or give the same folder");
     }
-    if (!options.shard.empty() && collective) throw common::InputError("--shard and MPI (mpirun) cannot be combined");
+    if (resume && collective) throw InputError("--resume runs in one process: not under MPI (mpirun)");
+    if (options.shard && collective) throw InputError("--shard and MPI (mpirun) cannot be combined");
+    settings = load_settings(options, extensions);
+    if (options.shard) std::tie(slice.shard_index, slice.shard_count) = parse_shard(*options.shard);
     if (collective) {
       slice.shard_index = collective->rank;
       slice.shard_count = collective->size;
+      StagedDir::check(dir, options.replace, common::StaleStaging::kRefuse);  // every rank: the same answer
+    } else if (resume) {
+      staged.emplace(open_for_resume(dir, options.replace));
+      shard_run = load_checkpoint(*staged, options, settings, extensions, slice);
+    } else {
+      staged.emplace(StagedDir::create(dir, options.replace, common::StaleStaging::kRefuse));
     }
-    if (resume) {
-      const ExperimentSettings stored = load_stored_settings((dir / "config.ini").string(), extensions);
-      const std::string diff = first_difference(results_config(stored), results_config(settings));
-      if (!diff.empty()) {
-        throw common::InputError("--resume " + dir.string() + ": the config differs from its config.ini: " + diff);
-      }
-    }
-  } catch (const common::InputError& e) {
-    err << "losmimo-experiment: " << e.what() << "\n";
+  } catch (const common::OutputExistsError& e) {
+    print_output_exists(err, kApp, e, resume ? "--resume" : "--out");
     return kExitBadInput;
+  } catch (const common::InputError& e) {
+    print_error(err, kApp, e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {  // the output folder cannot be created
+    print_error(err, kApp, std::string("error: ") + e.what());
+    return kExitFailure;
   }
-  const bool sharded = slice.shard_count > 1 || !options.shard.empty();
+
   const int threads = threads_of(settings);
   try {
-    if (collective) {
-      // Every rank runs its slice in memory; rank 0 gathers, merges and writes.
-      std::string mine;
-      ExperimentResults part;
-      const auto t0 = std::chrono::steady_clock::now();
-      try {
-        slice.traces = false;
-        Progress progress(err);
-        std::ostringstream text;
-        part = run_experiment(settings, extensions, threads, slice, root ? ProgressFn(std::ref(progress)) : ProgressFn(),
-                              [&](int point, const std::vector<TrialRecord>& rows) { write_record_lines(text, point, rows); });
-        mine = text.str();
-      } catch (const std::exception& e) {
-        mine = std::string("!") + e.what();  // reported by rank 0; the gather must still happen
-      }
-      const std::vector<std::string> all = collective->gather(mine);
-      if (!root) return mine.rfind('!', 0) == 0 ? 1 : 0;
-      std::vector<RecordLines> shards;
-      std::vector<std::string> origins;
-      for (std::size_t r = 0; r < all.size(); ++r) {
-        origins.push_back("rank " + std::to_string(r));
-        if (all[r].rfind('!', 0) == 0) throw std::runtime_error(origins.back() + ": " + all[r].substr(1));
-        std::istringstream in(all[r]);
-        shards.push_back(parse_record_lines(in, origins.back(), false));
-      }
-      ExperimentResults results = merge_shard_records(settings, shards, origins);
-      results.traces = traced_runs(settings);
-      const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      fs::create_directories(dir);
-      write_file_atomically((dir / "config.ini").string(), to_ini(settings));
-      report_finished(settings, extensions, results, dir, {wall_s, threads * collective->size}, false, out, err);
-      return kExitOk;
-    }
+    if (collective) return run_collective(options, extensions, settings, slice, dir, *collective, out, err);
 
-    fs::create_directories(dir);
+    const fs::path stage = staged->path();
     const std::vector<std::string> extra = extra_metric_names(settings, extensions);
-    if (resume) {
-      Checkpoint c = read_checkpoint(dir.string());
-      slice.finished_points = std::move(c.finished);
-      // Cut the user-facing partial files back to the last finished point, rewrite the checkpoint.
-      const int kept = static_cast<int>(slice.finished_points.size());
-      std::ostringstream records;
-      records << kRecordsHeader << "\n";
-      for (const auto& [p, rows] : slice.finished_points) {
-        write_record_lines(records, p, rows);
-        write_point_done(records, p);
-      }
-      std::vector<TrialRecord> kept_rows;
-      for (const auto& [p, rows] : slice.finished_points) kept_rows.insert(kept_rows.end(), rows.begin(), rows.end());
-      common::write_stream_atomically((dir / "trials.csv.partial").string(), [&](std::ostream& o) {
+    write_file_atomically((stage / "config.ini").string(), to_ini(settings));
+    // The checkpoint starts as its verified prefix (a fresh run: the header alone).
+    RecordsWriter writer;
+    std::string prefix = writer.header({shard_run ? kRecordsKindShard : kRecordsKindRun, slice.shard_index,
+                                        slice.shard_count, config_digest(settings)});
+    std::vector<TrialRecord> kept_rows;
+    for (const auto& [p, rows] : slice.finished_points) {
+      prefix += writer.point(p, rows);
+      kept_rows.insert(kept_rows.end(), rows.begin(), rows.end());
+    }
+    if (!shard_run) {
+      common::write_stream_atomically((stage / "trials.csv.partial").string(), [&](std::ostream& o) {
         write_trials_header(o, extra);
         write_trials_rows(o, kept_rows, extra.size());
       });
-      common::write_stream_atomically((dir / "positions.csv.partial").string(), [&](std::ostream& o) {
+      common::write_stream_atomically((stage / "positions.csv.partial").string(), [&](std::ostream& o) {
         write_positions_header(o);
         write_positions_rows(o, kept_rows);
       });
-      write_file_atomically((dir / "records.partial").string(), records.str());
-      err << "losmimo-experiment: resuming " << dir.string() << ": " << kept << " of " << num_sweep_points(settings)
-          << " points already finished\n";
     }
-    write_file_atomically((dir / "config.ini").string(), to_ini(settings));
+    write_file_atomically((stage / "records.partial").string(), prefix);
+    if (resume) {
+      err << "losmimo-experiment: resuming " << dir << ": " << slice.finished_points.size() << " of "
+          << num_sweep_points(settings) << " points already finished\n";
+    }
 
-    const auto mode = resume ? std::ios::app : std::ios::trunc;
-    std::ofstream records_part(dir / "records.partial", std::ios::binary | mode);
+    std::ofstream records_part(stage / "records.partial", std::ios::binary | std::ios::app);
     std::ofstream trials_part, positions_part;
-    if (!resume) records_part << kRecordsHeader << "\n";
-    if (!sharded) {
-      trials_part.open(dir / "trials.csv.partial", std::ios::binary | mode);
-      positions_part.open(dir / "positions.csv.partial", std::ios::binary | mode);
-      if (!resume) {
-        write_trials_header(trials_part, extra);
-        write_positions_header(positions_part);
-      }
+    if (!shard_run) {
+      trials_part.open(stage / "trials.csv.partial", std::ios::binary | std::ios::app);
+      positions_part.open(stage / "positions.csv.partial", std::ios::binary | std::ios::app);
     }
     const auto sink = [&](int point, const std::vector<TrialRecord>& rows) {
-      if (!sharded) {
+      if (!shard_run) {
         write_trials_rows(trials_part, rows, extra.size());
         write_positions_rows(positions_part, rows);
         trials_part.flush();
         positions_part.flush();
       }
       // The checkpoint last: a `d` line promises the point is complete everywhere.
-      write_record_lines(records_part, point, rows);
-      write_point_done(records_part, point);
+      records_part << writer.point(point, rows);
       records_part.flush();
+      if (!records_part || (!shard_run && (!trials_part || !positions_part))) {
+        throw std::runtime_error("writing the checkpoint in " + stage.string() + " failed");
+      }
+      common::test_pause_point("experiment.point_done");
     };
-    Progress progress(err);
+    detail::Progress progress(err);
     const auto t0 = std::chrono::steady_clock::now();
-    if (sharded) slice.traces = false;
+    if (shard_run) slice.traces = false;
     const ExperimentResults results = run_experiment(settings, extensions, threads, slice, std::ref(progress), sink);
     const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    records_part.close();
-    if (!records_part) throw std::runtime_error("writing records.partial failed");
-    if (sharded) {
-      fs::rename(dir / "records.partial", dir / "records.csv");
+    if (shard_run) {
+      records_part << writer.end();
+      records_part.close();
+      if (!records_part) throw std::runtime_error("writing records.partial failed");
+      fs::rename(stage / "records.partial", stage / "records.csv");
       std::ostringstream shard;
-      shard << "# losmimo-experiment shard: merge the folders of shards 0.." << slice.shard_count - 1
-            << " with `losmimo-experiment merge`\n[shard]\nindex = " << slice.shard_index
-            << "\ncount = " << slice.shard_count << "\n"
-            << "# this shard's run, reported by the merge\nthreads = " << threads << "\nwall_s = "
-            << common::format_g(wall_s, common::kExactDigits) << "\n";
-      write_file_atomically((dir / "shard.ini").string(), shard.str());
+      shard << "\n[shard]\nindex = " << slice.shard_index << "\ncount = " << slice.shard_count
+            << "\n# this shard's run, reported by the merge\nthreads = " << threads
+            << "\nwall_s = " << common::format_g(wall_s, common::kExactDigits) << "\n";
+      staged->publish(detail::experiment_manifest("shard", settings, results.records.size(), shard.str()));
       out << "losmimo-experiment: shard " << slice.shard_index << "/" << slice.shard_count << ": "
           << results.records.size() << " trial rows, " << describe({wall_s, threads}) << "; records in "
-          << dir.string() << "/records.csv\n";
+          << staged->final_path().string() << "/records.csv\n";
       return kExitOk;
     }
+    records_part.close();
     trials_part.close();
     positions_part.close();
-    if (!trials_part || !positions_part) throw std::runtime_error("writing trials/positions failed");
-    fs::rename(dir / "trials.csv.partial", dir / "trials.csv");
-    fs::rename(dir / "positions.csv.partial", dir / "positions.csv");
-    report_finished(settings, extensions, results, dir, {wall_s, threads}, true, out, err);
-    fs::remove(dir / "records.partial");
+    if (!records_part || !trials_part || !positions_part) throw std::runtime_error("writing the partial files failed");
+    fs::rename(stage / "trials.csv.partial", stage / "trials.csv");
+    fs::rename(stage / "positions.csv.partial", stage / "positions.csv");
+    detail::finish_and_publish(*staged, "experiment", settings, extensions, results, {wall_s, threads}, true, out, err);
     return kExitOk;
+  } catch (const common::OutputExistsError& e) {
+    print_output_exists(err, kApp, e, "--out");
+    return kExitBadInput;
   } catch (const common::InputError& e) {
-    err << "losmimo-experiment: " << e.what() << "\n";
+    print_error(err, kApp, e.what());
     return kExitBadInput;
   } catch (const std::exception& e) {
-    err << "losmimo-experiment: error: " << e.what() << "\n";
-    return kExitFailure;
-  }
-}
-
-int merge_experiment_app(const std::vector<std::string>& shard_dirs, const std::string& out_dir,
-                         const ExperimentExtensions& extensions, std::ostream& out, std::ostream& err) {
-  ExperimentSettings settings;
-  ExperimentResults results;
-  RunTiming timing;
-  const auto t0 = std::chrono::steady_clock::now();
-  try {
-    if (shard_dirs.empty()) throw common::InputError("merge: no shard folders given");
-    std::string reference;
-    int count = -1;
-    std::map<int, std::string> seen;  // shard index -> folder
-    std::vector<RecordLines> shards;
-    for (const std::string& d : shard_dirs) {
-      const fs::path shard_ini = fs::path(d) / "shard.ini";
-      if (!fs::exists(shard_ini)) {
-        throw common::InputError(shard_ini.string() + ": missing: not a finished shard folder (run with --shard i/N)");
-      }
-      const common::IniConfig ini = common::IniConfig::from_file(shard_ini.string());
-      ini.require_known({{"shard", {"index", "count", "threads", "wall_s"}}});
-      if (!ini.has("shard", "count") || !ini.has("shard", "index")) {
-        throw common::InputError(shard_ini.string() + ": needs [shard] index and count");
-      }
-      const int n = static_cast<int>(ini.get_integer("shard", "count", 1, 1, 1'000'000'000));
-      const int i = static_cast<int>(ini.get_integer("shard", "index", 0, 0, n - 1));
-      if (count != -1 && n != count) {
-        throw common::InputError(d + ": shard " + std::to_string(i) + " of " + std::to_string(n) + ", but " +
-                         seen.begin()->second + " is one of " + std::to_string(count));
-      }
-      count = n;
-      if (seen.count(i)) throw common::InputError(d + ": shard " + std::to_string(i) + " given twice (also " + seen[i] + ")");
-      seen[i] = d;
-      add_shard_timing(ini, timing);
-      const ExperimentSettings s = load_stored_settings((fs::path(d) / "config.ini").string(), extensions);
-      const std::string config = results_config(s);
-      if (reference.empty()) {
-        reference = config;
-        settings = s;
-      } else if (const std::string diff = first_difference(reference, config); !diff.empty()) {
-        throw common::InputError(d + "/config.ini differs from " + shard_dirs.front() + "/config.ini: " + diff);
-      }
-    }
-    std::string missing;
-    for (int i = 0; i < count; ++i) {
-      if (!seen.count(i)) missing += (missing.empty() ? "" : ", ") + std::to_string(i);
-    }
-    if (!missing.empty()) throw common::InputError("merge: missing shard(s) " + missing + " of " + std::to_string(count));
-    std::vector<std::string> origins;
-    for (const auto& [i, d] : seen) {
-      const fs::path path = fs::path(d) / "records.csv";
-      std::ifstream in(path, std::ios::binary);
-      if (!in) throw common::InputError(path.string() + ": missing");
-      origins.push_back(path.string());
-      shards.push_back(parse_record_lines(in, path.string(), false));
-    }
-    results = merge_shard_records(settings, shards, origins);
-  } catch (const common::InputError& e) {
-    err << "losmimo-experiment merge: " << e.what() << "\n";
-    return kExitBadInput;
-  }
-  try {
-    results.traces = traced_runs(settings);
-    const fs::path dir(out_dir);
-    fs::create_directories(dir);
-    write_file_atomically((dir / "config.ini").string(), to_ini(settings));
-    const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    timing.wall_s = wall_s;
-    timing.shards = static_cast<int>(shard_dirs.size());
-    report_finished(settings, extensions, results, dir, timing, false, out, err);
-    return kExitOk;
-  } catch (const std::exception& e) {
-    err << "losmimo-experiment merge: error: " << e.what() << "\n";
+    print_error(err, kApp, std::string("error: ") + e.what());
     return kExitFailure;
   }
 }

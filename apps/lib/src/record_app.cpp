@@ -1,33 +1,59 @@
 #include "losmimo/apps/record_app.h"
 
+#include <optional>
 #include <ostream>
+#include <set>
 
 #include "losmimo/apps/exit_codes.h"
 #include "losmimo/coevaluation/extensions.h"
 #include "losmimo/common/ini_config.h"
+#include "losmimo/common/staged_output.h"
+#include "losmimo/common/test_hook.h"
 #include "losmimo/experiment/extension.h"
 #include "losmimo/rawlog/recorder.h"
+#include "messages.h"
 
 namespace losmimo::apps {
 
 using namespace rawlog;
 
+namespace {
+constexpr const char* kApp = "losmimo-record";
+}
+
 int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostream& err) {
   MissionConfig config;
+  std::optional<common::StagedFile> staged;
   try {
     common::IniConfig ini = options.config_path.empty()
                                    ? common::IniConfig()
                                    : common::IniConfig::from_file(options.config_path);
     for (const std::string& o : options.overrides) ini.set_override(o);
-    // An experiment config (e.g. datasets/configs/paper.ini) is a valid mission source too.
-    config = load_mission_config(ini, experiment::experiment_config_keys(coevaluation::experiment_extensions()));
+    // An experiment config (e.g. datasets/configs/paper.ini) is a valid mission source too; its
+    // [experiment] keys are not used here, but checked like everything else.
+    const experiment::ExperimentExtensions extensions = coevaluation::experiment_extensions();
+    config = load_mission_config(ini, experiment::experiment_config_keys(extensions));
+    std::set<std::string> experiment_sections;
+    for (const auto& [section, keys] : experiment::experiment_config_keys(extensions)) experiment_sections.insert(section);
+    if (ini.has_section("experiment")) experiment::load_experiment_settings(ini.subset(experiment_sections), extensions);
     if (options.out_path.empty()) throw common::InputError("--out: an output file is required");
-  } catch (const common::InputError& e) {
-    err << "losmimo-record: " << e.what() << "\n";
+    staged.emplace(common::StagedFile::create(options.out_path, options.replace));
+  } catch (const common::OutputExistsError& e) {
+    print_output_exists(err, kApp, e, "--out");
     return kExitBadInput;
+  } catch (const common::InputError& e) {
+    print_error(err, kApp, e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {  // the output cannot be created
+    print_error(err, kApp, e.what());
+    return kExitFailure;
   }
   try {
-    const RecordResult r = record_mission(config, {options.out_path, 6, {}});
+    RecordOptions ro;
+    ro.out_path = staged->path();
+    ro.after_epoch_mark = [](int) { common::test_pause_point("record.epoch_mark"); };
+    const RecordResult r = record_mission(config, ro);
+    staged->publish();
     out << "losmimo-record: " << options.out_path << ": " << r.objects << " objects ("
         << r.uncompressed_bytes << " bytes uncompressed), " << r.epochs << " epochs, "
         << r.run.run.iterations << " iterations, " << placement::to_string(r.run.run.status)
@@ -37,8 +63,11 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
       return kExitFault;
     }
     return kExitOk;
+  } catch (const common::OutputExistsError& e) {
+    print_output_exists(err, kApp, e, "--out");
+    return kExitBadInput;
   } catch (const std::exception& e) {
-    err << "losmimo-record: " << e.what() << "\n";
+    print_error(err, kApp, std::string(e.what()) + " (what was written is in " + staged->path() + ")");
     return kExitFailure;
   }
 }

@@ -1,61 +1,105 @@
 #include "losmimo/apps/replay_app.h"
 
+#include <optional>
 #include <ostream>
 #include <stdexcept>
 
 #include "losmimo/apps/exit_codes.h"
 #include "losmimo/common/input_error.h"
+#include "losmimo/common/staged_output.h"
+#include "losmimo/common/test_hook.h"
 #include "losmimo/localization/filter.h"
 #include "losmimo/rawlog/replay.h"
+#include "messages.h"
 
 namespace losmimo::apps {
 
 using namespace rawlog;
 
+namespace {
+constexpr const char* kApp = "losmimo-replay";
+
+// Read to a clean end, and (ours) every mark verified up to END_OF_LOG: the only logs whose
+// replay exits 0 or 3, and whose summary.csv says complete.
+bool read_completely(const MissionLog& log) {
+  const bool clean_end = log.read_status.stop == RawlogStop::kEnd;
+  return log.ours ? log.complete && log.integrity_error.empty() && clean_end : clean_end;
+}
+}  // namespace
+
 int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostream& err) {
   ReplayOptions ro;
-  if (options.estimator == "ekf" || options.estimator == "pf") {
-    ro.estimator = localization::filter_kind_from_string(options.estimator);
-  } else if (!options.estimator.empty()) {
-    err << "losmimo-replay: --estimator '" << options.estimator << "': must be ekf or pf\n";
+  try {
+    if (options.estimator == "ekf" || options.estimator == "pf") {
+      ro.estimator = localization::filter_kind_from_string(options.estimator);
+    } else if (!options.estimator.empty()) {
+      throw common::InputError("--estimator '" + options.estimator + "': must be ekf or pf");
+    }
+    if (options.refine && options.no_refine) throw common::InputError("--refine and --no-refine together");
+    if (options.out_given && options.out_dir.empty()) throw common::InputError("--out '': an output folder is required");
+    if (!options.out_dir.empty()) common::StagedDir::check(options.out_dir, options.replace, common::StaleStaging::kDiscard);
+  } catch (const common::OutputExistsError& e) {
+    print_output_exists(err, kApp, e, "--out");
     return kExitBadInput;
-  }
-  if (options.refine && options.no_refine) {
-    err << "losmimo-replay: --refine and --no-refine together\n";
+  } catch (const common::InputError& e) {
+    print_error(err, kApp, e.what());
     return kExitBadInput;
+  } catch (const std::exception& e) {
+    print_error(err, kApp, e.what());
+    return kExitFailure;
   }
   if (options.refine) ro.refine = true;
   if (options.no_refine) ro.refine = false;
   RawlogReaderOptions reader_options;
-  reader_options.parse_unscanned_classes = !options.strict;
+  reader_options.foreign = options.strict ? ForeignObjects::kStop : ForeignObjects::kSandbox;
   MissionLog log;
   ReplayResult result;
   try {
     RawlogReader reader = RawlogReader::open_file(options.rawlog_path, reader_options);
     log = load_mission_log(reader);
-    result = replay_mission(log, ro);
+    try {
+      result = replay_mission(log, ro);
+    } catch (const common::InputError& e) {
+      // Nothing to replay: say why reading stopped, if it did not reach a clean end.
+      if (read_completely(log)) throw;
+      throw common::InputError(std::string(e.what()) + "; " + log.stop_description());
+    }
   } catch (const common::InputError& e) {
-    err << "losmimo-replay: " << options.rawlog_path << ": " << e.what() << "\n";
+    print_error(err, kApp, options.rawlog_path + ": " + e.what());
     return kExitBadInput;
   } catch (const std::runtime_error& e) {  // cannot open the file
-    err << "losmimo-replay: " << e.what() << "\n";
+    print_error(err, kApp, e.what());
     return kExitBadInput;
   } catch (const std::exception& e) {
-    err << "losmimo-replay: " << options.rawlog_path << ": replay failed: " << e.what() << "\n";
+    print_error(err, kApp, options.rawlog_path + ": replay failed: " + e.what());
     return kExitFailure;
   }
+  const bool complete = read_completely(log);
+  // summary.csv and stdout say `complete` as the exit code means it (a log whose END_OF_LOG
+  // verified but whose gzip trailer is missing, or with bytes after its end, is not complete).
+  log.complete = complete && log.ours;
+  const int code = !complete ? kExitFailure : log.run_faulted() ? kExitFault : kExitOk;
   try {
-    if (!options.out_dir.empty()) write_replay_csv(log, result, options.out_dir);
+    if (!options.out_dir.empty()) {
+      common::StagedDir staged =
+          common::StagedDir::create(options.out_dir, options.replace, common::StaleStaging::kDiscard);
+      write_replay_csv(log, result, staged.path().string());
+      common::test_pause_point("replay.outputs_written");
+      common::Manifest m;
+      m.kind = "replay";
+      m.run_keys = {{"app", kApp}, {"complete", complete ? "true" : "false"}, {"exit_code", std::to_string(code)}};
+      staged.publish(m);
+    }
+  } catch (const common::OutputExistsError& e) {
+    print_output_exists(err, kApp, e, "--out");
+    return kExitBadInput;
   } catch (const std::exception& e) {
-    err << "losmimo-replay: " << e.what() << "\n";
+    print_error(err, kApp, e.what());
     return kExitFailure;
   }
   for (const auto& [k, v] : rawlog::replay_summary_rows(log, result, false)) out << k << " = " << v << "\n";
-  const bool complete = log.ours ? log.complete && log.integrity_error.empty() &&
-                                       log.read_status.stop == RawlogStop::kEnd
-                                 : log.read_status.stop == RawlogStop::kEnd;
   if (!complete) {
-    err << "losmimo-replay: " << options.rawlog_path << ": " << log.stop_description() << "\n";
+    print_error(err, kApp, options.rawlog_path + ": " + log.stop_description());
     return kExitFailure;
   }
   out << "read: " << log.read_status.describe() << "\n";
@@ -63,9 +107,8 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
     err << "losmimo-replay: " << options.rawlog_path << ": the recorded run was ended by a fault ("
         << log.run_end.status << "): " << (log.run_end.fault.empty() ? "reason not in the log" : log.run_end.fault)
         << "; its " << log.epochs.size() << " epochs up to the fault were replayed\n";
-    return kExitFault;
   }
-  return kExitOk;
+  return code;
 }
 
 }  // namespace losmimo::apps

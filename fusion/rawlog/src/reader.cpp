@@ -1,5 +1,7 @@
 #include "losmimo/rawlog/reader.h"
 
+#include "losmimo/rawlog/format.h"
+#include "losmimo/rawlog/sandbox.h"
 #include "losmimo/rawlog/source.h"
 
 #include <algorithm>
@@ -11,6 +13,7 @@
 
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/registerAllClasses.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/poses/CPose3DPDFGaussian.h>
@@ -67,7 +70,11 @@ std::string first_line(const std::string& s) {
   for (std::string line; std::getline(in, line);) {
     if (line.find_first_not_of(" \t=") == std::string::npos) continue;
     out = line;
-    if (line.find("Exception") == std::string::npos && line.find("==") == std::string::npos) break;
+    // MRPT's traces: headers ("Original exception:", "==== MRPT exception ====") are skipped.
+    if (line.find("Exception") == std::string::npos && line.find("==") == std::string::npos &&
+        line.find("xception:") == std::string::npos) {
+      break;
+    }
   }
   return out.empty() ? s : out;
 }
@@ -99,6 +106,12 @@ std::string RawlogReadStatus::describe() const {
 struct RawlogReader::Impl {
   RawlogReaderOptions options;
   std::unique_ptr<RawlogByteSource> source;
+  // Where the sandbox's child reads the same log from (the file, or a copy of the bytes).
+  SandboxJob job;
+  SandboxChannel* channel = nullptr;  // in the sandbox's child: told before each MRPT parse
+  bool ours = false;                  // object 0 is losmimo's CONFIG
+  bool to_sandbox = false;            // foreign: the objects from here on go to the sandbox
+  std::unique_ptr<ObjectSandbox> sandbox;
   std::vector<std::uint8_t> buf;
   std::size_t head = 0;         // start of the current object in buf
   std::uint64_t buf_base = 0;   // absolute offset of buf[0]
@@ -125,6 +138,10 @@ struct RawlogReader::Impl {
       }
       buf.resize(old + got);
       if (got == 0) source_ended = true;
+      if (buf_base + buf.size() > options.max_total_bytes) {
+        throw Stop{RawlogStop::kLimit, "the log is larger than max_total_bytes (" +
+                                           std::to_string(options.max_total_bytes) + " bytes uncompressed)"};
+      }
     }
     return true;
   }
@@ -265,7 +282,31 @@ struct RawlogReader::Impl {
     std::size_t pos_ = 0;
   };
 
+  // Hands the rest of the log, from the current object on, to a sandbox.
+  void start_sandbox() {
+    to_sandbox = false;
+    sandbox = acquire_sandbox(options.sandbox);
+    SandboxJob j = job;
+    j.offset = buf_base + head;
+    j.index = status.objects;
+    sandbox->start(j, options);
+  }
+
+  std::optional<RawlogObject> from_sandbox() {
+    std::optional<RawlogObject> o = sandbox->next();
+    status.objects = sandbox->status().objects;
+    status.offset = sandbox->status().offset;
+    if (!o) {
+      status = sandbox->status();
+      if (status.stop == RawlogStop::kNone) status.stop = RawlogStop::kCorrupt;
+      release_sandbox(std::move(sandbox));
+      sandbox.reset();
+    }
+    return o;
+  }
+
   std::optional<RawlogObject> next() {
+    if (sandbox) return from_sandbox();
     if (status.stop != RawlogStop::kNone) return std::nullopt;
     RawlogObject out;
     out.index = status.objects;
@@ -276,7 +317,12 @@ struct RawlogReader::Impl {
         status.stop = RawlogStop::kEnd;
         return std::nullopt;
       }
+      if (to_sandbox) {
+        start_sandbox();
+        return from_sandbox();
+      }
       const std::optional<std::size_t> size = scan(out.class_name);
+      if (channel) channel->parsing(out.index, out.offset, out.class_name);
       std::size_t n = 0;
       if (size) {
         n = *size;
@@ -285,13 +331,24 @@ struct RawlogReader::Impl {
         auto a = mrpt::serialization::archiveFrom(mem);
         out.object = a.ReadObject();
         if (mem.getPosition() != n) throw Stop{RawlogStop::kCorrupt, "MRPT read a different length"};
-      } else if (options.parse_unscanned_classes) {
+      } else if (options.foreign == ForeignObjects::kInProcess) {
         Adapter in(*this);
         auto a = mrpt::serialization::archiveFrom(in);
         out.object = a.ReadObject();
         n = in.consumed();
+      } else if (options.foreign == ForeignObjects::kSandbox && !ours) {
+        start_sandbox();
+        return from_sandbox();
+      } else if (ours) {
+        throw Stop{RawlogStop::kLimit, "class " + out.class_name + " in a losmimo rawlog, which never holds one"};
       } else {
         throw Stop{RawlogStop::kLimit, "class " + out.class_name + " is not one the reader can bound"};
+      }
+      if (out.index == 0) {
+        const auto* c = dynamic_cast<const mrpt::obs::CObservationComment*>(out.object.get());
+        const std::string magic = std::string(kRawlogMagic) + " ";
+        ours = c && c->text.compare(0, magic.size(), magic) == 0;
+        to_sandbox = !ours && options.foreign == ForeignObjects::kSandbox;
       }
       out.bytes.assign(buf.begin() + static_cast<std::ptrdiff_t>(head),
                        buf.begin() + static_cast<std::ptrdiff_t>(head + n));
@@ -328,6 +385,8 @@ RawlogReader RawlogReader::open_file(const std::string& path, const RawlogReader
   auto impl = std::make_unique<Impl>();
   impl->options = options;
   impl->source = open_rawlog_file_source(path);
+  impl->job.from_file = true;
+  impl->job.path = path;
   return RawlogReader(std::move(impl));
 }
 
@@ -335,8 +394,46 @@ RawlogReader RawlogReader::from_bytes(std::string bytes, const RawlogReaderOptio
   calibration();
   auto impl = std::make_unique<Impl>();
   impl->options = options;
+  impl->job.from_file = false;
+  if (options.foreign == ForeignObjects::kSandbox) impl->job.bytes = bytes;  // for the sandbox's child
   impl->source = make_rawlog_memory_source(std::move(bytes));
   return RawlogReader(std::move(impl));
+}
+
+RawlogReadStatus run_sandbox_job(const SandboxJob& job, const RawlogReaderOptions& options, SandboxChannel& channel) {
+  calibration();
+  RawlogReader::Impl r;
+  r.options = options;
+  r.options.foreign = ForeignObjects::kInProcess;
+  r.channel = &channel;
+  r.status.objects = job.index;
+  r.status.offset = job.offset;
+  try {
+    r.source = job.from_file ? open_rawlog_file_source(job.path) : make_rawlog_memory_source(job.bytes);
+    // Skip to the job's first object (the parent read the ones before it).
+    std::vector<std::uint8_t> scratch(64 * 1024);
+    for (std::uint64_t left = job.offset; left > 0;) {
+      const std::size_t got = r.source->read(scratch.data(), static_cast<std::size_t>(std::min<std::uint64_t>(left, scratch.size())));
+      if (got == 0) throw RawlogSourceError("the log ended before the sandbox's first object", true);
+      left -= got;
+    }
+  } catch (const RawlogSourceError& e) {
+    r.status.stop = e.truncated ? RawlogStop::kTruncated : RawlogStop::kCorrupt;
+    r.status.reason = e.what();
+    return r.status;
+  }
+  r.buf_base = job.offset;
+  while (std::optional<RawlogObject> o = r.next()) {
+    std::string why;
+    if (!channel.send(*o, r.status.offset, why)) {
+      r.status.stop = RawlogStop::kLimit;
+      r.status.objects = o->index;
+      r.status.offset = o->offset;
+      r.status.reason = why;
+      break;
+    }
+  }
+  return r.status;
 }
 
 std::optional<RawlogObject> RawlogReader::next() { return impl_->next(); }

@@ -3,6 +3,9 @@
 #include <cctype>
 #include <fstream>
 #include <sstream>
+#include <string_view>
+
+#include "losmimo/common/bounded_read.h"
 
 namespace losmimo::common {
 
@@ -45,19 +48,15 @@ std::vector<std::string> split_list(const std::string& text) {
 }
 
 IniConfig IniConfig::from_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open config file");
-  std::ostringstream text;
-  // peek() first: an empty file is a valid (empty) config, while `text << rdbuf()` would fail on
-  // it; and a directory opens fine but fails here (it used to load as an empty config).
-  if (in.peek() != std::ifstream::traits_type::eof()) text << in.rdbuf();
-  if (in.bad() || text.fail()) throw InputError(path + ": cannot read config file");
-  return from_string(text.str(), path);
+  // Bounded: a config is a few KB; /dev/zero or a huge file is refused, not slurped.
+  return from_string(read_file_bounded(path, kMaxConfigBytes, "config file"), path);
 }
 
 IniConfig IniConfig::from_string(const std::string& text, const std::string& origin) {
   IniConfig cfg;
-  std::istringstream in(text);
+  // A UTF-8 byte-order mark (written by some editors) is not part of the first line.
+  constexpr std::string_view kBom = "\xEF\xBB\xBF";
+  std::istringstream in(text.compare(0, kBom.size(), kBom) == 0 ? text.substr(kBom.size()) : text);
   std::string raw;
   std::string section;
   int line_no = 0;
@@ -103,13 +102,24 @@ void IniConfig::set_override(const std::string& assignment) {
   set(section, key, trim(assignment.substr(eq + 1)));
 }
 
-void IniConfig::set(const std::string& section, const std::string& key, const std::string& value) {
-  sections_[section][key] = Entry{value, "--set", 0};
+void IniConfig::set(const std::string& section, const std::string& key, const std::string& value,
+                    const std::string& origin) {
+  sections_[section][key] = Entry{value, origin, 0};
 }
 
 bool IniConfig::has(const std::string& section, const std::string& key) const {
   const auto s = sections_.find(section);
   return s != sections_.end() && s->second.count(key) > 0;
+}
+
+bool IniConfig::has_section(const std::string& section) const { return sections_.count(section) > 0; }
+
+IniConfig IniConfig::subset(const std::set<std::string>& sections) const {
+  IniConfig out;
+  for (const auto& [name, keys] : sections_) {
+    if (sections.count(name)) out.sections_[name] = keys;
+  }
+  return out;
 }
 
 std::string IniConfig::where(const std::string& section, const std::string& key) const {

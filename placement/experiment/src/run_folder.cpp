@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "losmimo/common/atomic_file.h"
+#include "losmimo/common/hash.h"
 #include "losmimo/common/input_error.h"
 #include "losmimo/experiment/csv.h"
 #include "losmimo/experiment/records.h"
@@ -24,6 +25,8 @@ std::string results_config(ExperimentSettings s) {
   s.config.set("experiment", "plots", "true");
   return to_ini(s);
 }
+
+std::uint64_t config_digest(const ExperimentSettings& settings) { return common::fnv1a64(results_config(settings)); }
 
 std::string first_difference(const std::string& a, const std::string& b) {
   std::istringstream ia(a), ib(b);
@@ -70,14 +73,11 @@ std::vector<std::string> finish_outputs(const ExperimentSettings& settings, cons
 Checkpoint read_checkpoint(const std::string& dir) {
   const fs::path path = fs::path(dir) / "records.partial";
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw common::InputError(path.string() + ": missing: nothing to resume (was the run already complete?)");
-  const RecordLines lines = parse_record_lines(in, path.string(), true);
+  if (!in) throw common::InputError(path.string() + ": missing: nothing to resume");
+  RecordLines lines = read_records(in, path.string(), RecordsMode::kCheckpoint);
   Checkpoint c;
-  for (std::size_t i = 0; i < lines.done.size(); ++i) {
-    if (lines.done[i] != static_cast<int>(i)) throw common::InputError(path.string() + ": points not finished in order");
-    const auto it = lines.points.find(lines.done[i]);
-    c.finished[lines.done[i]] = it == lines.points.end() ? std::vector<TrialRecord>{} : it->second;
-  }
+  c.header = lines.header;
+  c.finished = std::move(lines.points);
   return c;
 }
 

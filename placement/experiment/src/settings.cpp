@@ -158,12 +158,13 @@ ExperimentSettings load_experiment_settings(const common::IniConfig& cfg, const 
       throw common::FieldError("sweeps", "unknown sweep '" + sweep.name + "' (known: " + known + ")");
     }
     const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
-    const bool has_ura = std::any_of(s.algorithms.begin(), s.algorithms.end(), [](Algorithm a) {
+    const auto ura = std::find_if(s.algorithms.begin(), s.algorithms.end(), [](Algorithm a) {
       return a == Algorithm::kUra || a == Algorithm::kUraLattice || a == Algorithm::kUraLatticeExact;
     });
     const placement::Scenario& sc = s.placement.scenario;
-    if (builtin && has_ura && sc.num_uavs > sc.num_bs_antennas()) {
-      throw common::FieldError("algorithms", "ura needs scenario.num_uavs <= bs_rows * bs_cols (" +
+    if (builtin && ura != s.algorithms.end() && sc.num_uavs > sc.num_bs_antennas()) {
+      // Named as listed: the first of the URA baselines in `algorithms`.
+      throw common::FieldError("algorithms", to_string(*ura) + " needs scenario.num_uavs <= bs_rows * bs_cols (" +
                                                  std::to_string(sc.num_bs_antennas()) + "), got " +
                                                  std::to_string(sc.num_uavs));
     }

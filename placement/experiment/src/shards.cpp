@@ -34,21 +34,31 @@ ExperimentResults merge_shard_records(const ExperimentSettings& settings, const 
                                       const std::vector<std::string>& origins) {
   const int points = num_sweep_points(settings);
   const int trials = settings.trials;
-  // (point, trial) -> shard that ran it
+  // (point, trial) -> shard that ran it, and its records.
   std::vector<int> owner(static_cast<std::size_t>(points) * trials, -1);
   std::vector<std::vector<std::vector<TrialRecord>>> by_job(points, std::vector<std::vector<TrialRecord>>(trials));
+  std::vector<std::set<std::string>> algorithms(points);  // per point, over every shard
   for (std::size_t s = 0; s < shards.size(); ++s) {
-    std::set<std::pair<int, int>> jobs_here;
+    const RecordsHeader& h = shards[s].header;
+    if (static_cast<int>(shards[s].points.size()) != points) {
+      throw common::InputError(origins[s] + ": " + std::to_string(shards[s].points.size()) + " points where the config has " +
+                               std::to_string(points));
+    }
     for (const auto& [point, records] : shards[s].points) {
       if (point >= points) throw common::InputError(origins[s] + ": point " + std::to_string(point) + " beyond the config's " + std::to_string(points));
+      std::set<int> mine;  // the trials of this point that are this shard's jobs
+      for (int t = 0; t < trials; ++t) {
+        if ((static_cast<long long>(point) * trials + t) % h.shard_count == h.shard_index) mine.insert(t);
+      }
+      check_point_jobs(origins[s], point, records, mine);
       for (const TrialRecord& r : records) {
-        if (r.trial >= trials) throw common::InputError(origins[s] + ": trial " + std::to_string(r.trial) + " beyond the config's " + std::to_string(trials));
         int& o = owner[static_cast<std::size_t>(point) * trials + r.trial];
         if (o != -1 && o != static_cast<int>(s)) {
           throw common::InputError(origins[s] + ": point " + std::to_string(point) + ", trial " + std::to_string(r.trial) +
-                           " is also in " + origins[o]);
+                                   " is also in " + origins[o]);
         }
         o = static_cast<int>(s);
+        algorithms[point].insert(r.algorithm);
         by_job[point][r.trial].push_back(r);
       }
     }
@@ -56,9 +66,20 @@ ExperimentResults merge_shard_records(const ExperimentSettings& settings, const 
   ExperimentResults results;
   for (int p = 0; p < points; ++p) {
     for (int t = 0; t < trials; ++t) {
-      if (owner[static_cast<std::size_t>(p) * trials + t] == -1) {
+      const int o = owner[static_cast<std::size_t>(p) * trials + t];
+      if (o == -1) {
         throw common::InputError("merge: no records of point " + std::to_string(p) + ", trial " + std::to_string(t) +
-                         " (an incomplete or missing shard)");
+                                 " (an incomplete or missing shard)");
+      }
+      if (by_job[p][t].size() != algorithms[p].size()) {
+        for (const std::string& a : algorithms[p]) {
+          bool found = false;
+          for (const TrialRecord& r : by_job[p][t]) found = found || r.algorithm == a;
+          if (!found) {
+            throw common::InputError(origins[o] + ": point " + std::to_string(p) + ", trial " + std::to_string(t) +
+                                     ": no record of algorithm " + a + " (a record missing)");
+          }
+        }
       }
       for (TrialRecord& r : by_job[p][t]) results.records.push_back(std::move(r));
     }

@@ -1,8 +1,9 @@
 #pragma once
 // UAV positions as CSV: one UAV per row, `x,y,z` in metres in the BS frame (scenario.h).
-// An optional header row `x,y,z`, blank lines and `#` comment lines are allowed. Anything else
-// (a missing file, a wrong field count, a non-finite number or one beyond +-1e9 m, more than
-// max_rows rows, no rows)
+// An optional header row `x,y,z`, blank lines, `#` comment lines and a leading UTF-8 byte-order
+// mark are allowed. Anything else (a missing file, a file above common::kMaxPositionsBytes or a
+// line above kMaxPositionsLineBytes, a wrong field count, a non-finite number or one beyond
+// +-1e9 m, more than max_rows rows, no rows)
 // throws common::InputError naming the file, line and field.
 
 #include <Eigen/Core>

@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,25 +26,37 @@ struct ExperimentCollective {
 struct ExperimentOptions {
   std::string config_path;
   std::vector<std::string> overrides;
-  std::string out_dir = "results";
+  std::optional<std::string> out_dir;  // not given: "results"
   int trials = 0;    // > 0 overrides [experiment] trials
   int threads = -1;  // >= 0 overrides [experiment] threads
-  // "i/N": run shard i of N into out_dir (config.ini, shard.ini, records.csv) for
-  // `losmimo-experiment merge`; empty: everything.
-  std::string shard;
-  // Continue the interrupted run in this folder (its records.partial checkpoint); the config
-  // must give the same results as its config.ini (threads and plots may differ).
-  std::string resume_dir;
+  // "i/N": run shard i of N into out_dir (config.ini, records.csv and a manifest saying so) for
+  // `losmimo-experiment merge`; not given: everything.
+  std::optional<std::string> shard;
+  // Continue the interrupted run of this output folder (its checkpoint in `<dir>.partial/`,
+  // a whole run's or a shard's); the config must give the same results as its config.ini
+  // (threads and plots may differ). `--out` may only name the same folder.
+  std::optional<std::string> resume_dir;
+  // A finished run already in the output folder (or an interrupted one in `<dir>.partial/`)
+  // is replaced whole; without it the run refuses (exit 2) before any work.
+  bool replace = false;
   const ExperimentCollective* collective = nullptr;  // MPI: ranks split the jobs, rank 0 writes
 };
+// The output folder holds one run or nothing: everything is written into `<dir>.partial/` and
+// renamed into place when complete (common/staged_output.h), with losmimo-run.ini last.
 int run_experiment_app(const ExperimentOptions& options, const experiment::ExperimentExtensions& extensions,
                        std::ostream& out, std::ostream& err);
 
-// `losmimo-experiment merge DIR...`: merges complete shard folders (same config, every shard
-// of 0..N-1 exactly once) into out_dir, byte-identical trials.csv, positions.csv, traces.csv
-// and summary.csv to a single-process run. Bad or missing shards: a message and exit code 2.
-int merge_experiment_app(const std::vector<std::string>& shard_dirs, const std::string& out_dir,
-                         const experiment::ExperimentExtensions& extensions, std::ostream& out,
-                         std::ostream& err);
+struct MergeOptions {
+  std::vector<std::string> shard_dirs;
+  std::string out_dir = "results";
+  bool replace = false;  // as ExperimentOptions::replace
+};
+// `losmimo-experiment merge DIR...`: merges finished shard folders (their manifests say kind =
+// shard, their files and records verify, same config, every shard of 0..N-1 exactly once) into
+// out_dir, byte-identical trials.csv, positions.csv, traces.csv and summary.csv to a
+// single-process run. Bad or missing shards: a message naming the folder (and record) and exit
+// code 2.
+int merge_experiment_app(const MergeOptions& options, const experiment::ExperimentExtensions& extensions,
+                         std::ostream& out, std::ostream& err);
 
 }  // namespace losmimo::apps

@@ -6,6 +6,10 @@
 // input (the message names file, line, key and value), 1 runtime error, 3 the run was ended by
 // a fault (placement::RunResult::faulted(): an unresponsive UAV or a numerical fault; the
 // reason goes to `err`, the rawlog is written and closed up to the fault).
+// The log is written as `<out>.partial` and renamed to out_path when closed (fsynced): an
+// interrupted recording never leaves a partial log under the final name nor destroys an older
+// one; `<out>.partial` keeps its readable prefix. An existing out_path is refused before any
+// work unless `replace`.
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -16,6 +20,7 @@ struct RecordAppOptions {
   std::string config_path;             // empty: built-in defaults
   std::vector<std::string> overrides;  // "section.key=value"
   std::string out_path;
+  bool replace = false;  // replace an existing out_path (default: refuse, exit 2)
 };
 int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostream& err);
 

@@ -2,19 +2,26 @@
 // Reads an MRPT rawlog object by object, never trusting a length it has not checked.
 //
 // MRPT objects carry no length prefix, and MRPT's deserializers resize vectors and strings to a
-// length field before reading them (a corrupted field costs gigabytes). So before MRPT parses an
-// object, a scanner walks its bytes with the known layout of the classes losmimo writes
-// (CObservationComment, CObservationRawDAQ, CObservationBearingRange, CObservationRobotPose;
-// nested CPose3D / CPose3DPDFGaussian are fixed-size and calibrated at start-up from MRPT
-// itself), checks every length against the limits below, and buffers the whole object; MRPT
-// then parses exactly those bytes from memory. Any other class is either parsed by MRPT directly
-// from the stream (parse_unscanned_classes, default: foreign rawlogs; memory is then bounded
-// only by the process, e.g. the replay app's RLIMIT_AS) or stops the read (strict mode, for
-// fuzzing).
+// length field before reading them (a corrupted field costs gigabytes), or crash on some
+// corrupted fields. So:
+//   - losmimo's own logs (object 0 is the CONFIG comment, format.h) are read in this process:
+//     before MRPT parses an object, a scanner walks its bytes with the known layout of the
+//     classes losmimo writes (CObservationComment, CObservationRawDAQ, CObservationBearingRange,
+//     CObservationRobotPose; nested CPose3D / CPose3DPDFGaussian are fixed-size and calibrated at
+//     start-up from MRPT itself), checks every length against the limits below, and buffers the
+//     whole object; MRPT then parses exactly those bytes from memory. Any other class in such a
+//     log stops the read (limit): losmimo never writes one.
+//   - other logs ("foreign") are parsed in a bounded child process (sandbox.h, the default
+//     ForeignObjects::kSandbox), which returns each object it could parse with its index and
+//     offset; a crash or a memory or CPU limit there stops the read with a status naming the
+//     object index, byte offset and class. kStop instead stops at the first object the scanner
+//     cannot bound (strict mode); kInProcess lets MRPT parse it here, unbounded (only the
+//     sandbox's child does that).
 //
 // Input: a gzip file (what MRPT writes) or an uncompressed one (zlib reads both), or bytes in
-// memory. A truncated or corrupt input never throws from next(): reading stops, and status()
-// says where (object index, uncompressed byte offset) and why.
+// memory, at most max_total_bytes uncompressed. A truncated or corrupt input never throws from
+// next(): reading stops, and status() says where (object index, uncompressed byte offset) and
+// why.
 
 #include <cstddef>
 #include <cstdint>
@@ -23,16 +30,24 @@
 #include <string>
 #include <vector>
 
+#include "losmimo/rawlog/sandbox.h"
+
 namespace mrpt::serialization {
 class CSerializable;
 }
 
 namespace losmimo::rawlog {
 
+enum class ForeignObjects { kSandbox, kStop, kInProcess };
+
 struct RawlogReaderOptions {
   std::size_t max_object_bytes = std::size_t{64} << 20;  // one object, serialized
   std::size_t max_string_bytes = std::size_t{1} << 20;   // a label or comment text
-  bool parse_unscanned_classes = true;
+  // The whole log, uncompressed (the largest shipped with MRPT: 5.9 MB; losmimo's 256-UAV,
+  // 256-antenna test mission: 32 MB).
+  std::uint64_t max_total_bytes = std::uint64_t{256} << 20;
+  ForeignObjects foreign = ForeignObjects::kSandbox;
+  SandboxLimits sandbox;
 };
 
 struct RawlogObject {
@@ -40,7 +55,9 @@ struct RawlogObject {
   std::uint64_t offset = 0;      // uncompressed byte offset of its first byte
   std::string class_name;
   std::shared_ptr<mrpt::serialization::CSerializable> object;
-  std::vector<std::uint8_t> bytes;  // as serialized (for the integrity digests)
+  // As serialized in the file (for the integrity digests); objects from the sandbox: as MRPT
+  // re-serialized them.
+  std::vector<std::uint8_t> bytes;
 };
 
 enum class RawlogStop {
@@ -83,7 +100,8 @@ class RawlogReader {
 };
 
 // Reads everything (for tests and the fuzz target): the objects and the final status. Never
-// throws on any input; with parse_unscanned_classes = false no allocation exceeds the limits.
+// throws on any input; with ForeignObjects::kSandbox or kStop no allocation in this process
+// exceeds the limits.
 struct RawlogContents {
   std::vector<RawlogObject> objects;
   RawlogReadStatus status;

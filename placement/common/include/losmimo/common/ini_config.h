@@ -1,6 +1,7 @@
 #pragma once
 // A strict INI reader in MRPT's style: `[section]` headers, `key = value` lines, `#` or `;`
-// comments (whole line or after the value), case-sensitive names. Strict where MRPT's
+// comments (whole line or after the value), case-sensitive names, a leading UTF-8 byte-order
+// mark ignored; files of at most kMaxConfigBytes (bounded_read.h). Strict where MRPT's
 // CConfigFile is lenient: a missing file, a malformed line, a duplicate key and (with
 // require_known) an unknown section or key are errors naming the file, line and key.
 // (Written here because placement may not depend on MRPT; mrpt::config is the library
@@ -26,9 +27,14 @@ class IniConfig {
 
   // Applies an override "section.key=value" (as from --set); throws InputError if malformed.
   void set_override(const std::string& assignment);
-  void set(const std::string& section, const std::string& key, const std::string& value);
+  // `origin` names where the value came from in messages (an option such as "--trials").
+  void set(const std::string& section, const std::string& key, const std::string& value,
+           const std::string& origin = "--set");
 
   bool has(const std::string& section, const std::string& key) const;
+  bool has_section(const std::string& section) const;
+  // The given sections only (entries keep their origin and line, for messages).
+  IniConfig subset(const std::set<std::string>& sections) const;
   // Typed getters: the fallback when absent, else the parsed value or an InputError naming
   // "origin:line: [section] key".
   double get_double(const std::string& section, const std::string& key, double fallback) const;

@@ -17,6 +17,7 @@
 // where the field is a data member pointer or a lambda returning a reference to it, e.g.
 //   [](auto& s) -> auto& { return s.cube_center_m.x(); }
 
+#include <algorithm>
 #include <functional>
 #include <limits>
 #include <map>
@@ -175,6 +176,10 @@ struct Key {
       for (const std::string& item : split_list(text)) {
         values.push_back(parse_double(item, where));
         require_in(item_range, values.back(), item, where);
+        // Lists are sweep points: a repeated one would pool two points' trials into one.
+        if (std::count(values.begin(), values.end(), values.back()) > 1) {
+          throw InputError(where + ": '" + item + "' listed twice (each point once)");
+        }
       }
       if (values.empty()) throw InputError(where + ": needs at least one value");
       ref(s) = values;
@@ -202,6 +207,9 @@ struct Key {
       std::remove_reference_t<decltype(ref(s))> values;
       for (const std::string& item : split_list(text)) {
         values.push_back(static_cast<T>(parse_integer(item, where, lo, hi)));
+        if (std::count(values.begin(), values.end(), values.back()) > 1) {
+          throw InputError(where + ": '" + item + "' listed twice (each point once)");
+        }
       }
       if (values.empty()) throw InputError(where + ": needs at least one value");
       ref(s) = values;
@@ -389,9 +397,15 @@ class KeyTable {
     // On the heap: GCC 12 at -O3 takes the inlined default members of a large S for
     // maybe-uninitialised on the stack.
     const auto defaults = std::make_unique<const S>();
+    // A '|' inside a cell (rules such as "true | false") would end the cell: escaped.
+    const auto cell = [](const std::string& text) {
+      std::string escaped;
+      for (const char c : text) escaped += c == '|' ? std::string("\\|") : std::string(1, c);
+      return escaped;
+    };
     for (const Key<S>& k : keys_) {
-      out += "| [" + k.section + "] | " + k.key + " | " + k.write(*defaults, format_) + " | " + k.rule + " | " +
-             k.doc + " |\n";
+      out += "| [" + k.section + "] | " + k.key + " | " + cell(k.write(*defaults, format_)) + " | " + cell(k.rule) +
+             " | " + cell(k.doc) + " |\n";
     }
     return out;
   }

@@ -1,23 +1,30 @@
 #pragma once
-// What a finished run folder holds, and reading back an interrupted one.
+// What a run folder holds, and reading back an interrupted one. The apps write a run into the
+// staging folder `<out>.partial/` and rename it into place when it is complete
+// (common/staged_output.h); losmimo-run.ini, the manifest, is written last.
 //   config.ini       the full configuration (to_ini)
 //   trials.csv, positions.csv, traces.csv, summary.csv   (csv.h, summary.h)
 //   fig*.png/.gp/.dat, report.md                         (report.h)
+//   records.csv      a shard's records (records.h), closed by their e line
 //   records.partial  the checkpoint while a run is under way (records.h): every finished
-//                    point's exact records followed by its `d` line
+//                    point's exact records followed by its `d` line; only in `<out>.partial/`
 
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "losmimo/common/input_error.h"
 #include "losmimo/experiment/engine.h"
+#include "losmimo/experiment/records.h"
 #include "losmimo/experiment/report.h"
 
 namespace losmimo::experiment {
 
-// The configuration as far as results depend on it (threads and plots do not matter), as INI.
+// The configuration as far as results depend on it (threads and plots do not matter), as INI,
+// and its FNV-1a digest (the records' h line).
 std::string results_config(ExperimentSettings settings);
+std::uint64_t config_digest(const ExperimentSettings& settings);
 // The first line where two configs differ ("'a' vs 'b'"), or "" if they are equal.
 std::string first_difference(const std::string& a, const std::string& b);
 // Loads the config.ini of a run or shard folder; common::InputError if missing or invalid.
@@ -30,11 +37,13 @@ std::vector<std::string> finish_outputs(const ExperimentSettings& settings, cons
                                         const ExperimentResults& results, const std::string& out_dir,
                                         const RunTiming& timing, bool trial_files_written);
 
-// The checkpoint of an interrupted run: the records of the finished points (a prefix).
+// The checkpoint of an interrupted run: its header (run or shard, config digest) and the records
+// of the finished points (a prefix), verified (records.h).
 struct Checkpoint {
+  RecordsHeader header;
   std::map<int, std::vector<TrialRecord>> finished;
 };
-// Reads `dir`/records.partial; common::InputError if missing or not a prefix of points.
+// Reads `dir`/records.partial; common::InputError if missing or damaged, naming the record.
 Checkpoint read_checkpoint(const std::string& dir);
 
 }  // namespace losmimo::experiment

@@ -1,8 +1,9 @@
 #pragma once
 // Splitting one experiment over processes: `--shard i/N` runs the jobs j with j % N == i
-// (engine.h) into its own folder (config.ini, shard.ini, records.csv); a merge orders the
-// records of shards 0..N-1 exactly as one process would have, so the merged files are
-// byte-identical to a single run's.
+// (engine.h) into its own folder (config.ini, records.csv, and losmimo-run.ini saying kind =
+// shard with its [shard] index, count, threads, wall_s); a merge orders the verified records
+// of shards 0..N-1 exactly as one process would have, so the merged files are byte-identical to
+// a single run's.
 
 #include <string>
 #include <utility>
@@ -18,13 +19,14 @@ namespace losmimo::experiment {
 // Parses "i/N" (0 <= i < N, decimal); throws common::InputError naming the text otherwise.
 std::pair<int, int> parse_shard(const std::string& text);
 
-// The records of complete shards in single-run order; common::InputError naming the origin if a job is
-// missing, duplicated or outside the configuration.
+// The records of complete shards (read_records, kComplete) in single-run order; common::InputError
+// naming the origin, point, trial and algorithm if a record is missing, duplicated, in the wrong
+// shard or outside the configuration.
 ExperimentResults merge_shard_records(const ExperimentSettings& settings, const std::vector<RecordLines>& shards,
                                       const std::vector<std::string>& origins);
 
-// Adds a shard's own run (its shard.ini `threads` and `wall_s`) to the merge's timing, if the
-// shard recorded them (folders written before they were did not); common::InputError on a bad value.
+// Adds a shard's own run (its manifest's [shard] `threads` and `wall_s`) to the merge's timing, if
+// the shard recorded them; common::InputError on a bad value.
 void add_shard_timing(const common::IniConfig& shard_ini, RunTiming& timing);
 
 }  // namespace losmimo::experiment
