@@ -161,6 +161,15 @@ PlacementSettings load_placement_settings(const common::IniConfig& cfg) {
   return s;
 }
 
+void require_los_channel(const ChannelSettings& channel, const common::IniConfig& config, const std::string& tool) {
+  const auto refuse = [&](const std::string& key, double value) {
+    throw common::InputError(config.where("channel", key) + ": " + format_db_or_inf(value) + " is not supported by " +
+                             tool + ", which models the LoS channel with perfect CSI (use losmimo-experiment)");
+  };
+  if (channel.fading()) refuse("rician_k_db", channel.rician_k_db);
+  if (channel.noisy_csi()) refuse("csi_snr_db", channel.csi_snr_db);
+}
+
 std::string to_ini(const PlacementSettings& settings) { return placement_keys().to_ini(settings); }
 
 }  // namespace losmimo::placement

@@ -91,6 +91,15 @@ TEST(LosmimoEval, ShippedPaperIni_IsAcceptedAsScenario) {
   EXPECT_GT(csv_value(out.str(), "icn"), 0.999);
 }
 
+TEST(LosmimoEval, ChannelConditions_ExitTwoNamingTheKey) {
+  losmimo::apps::EvalOptions o;
+  o.positions_path = kExamples + "ura_optimal_16.csv";
+  o.overrides = {"channel.rician_k_db=10"};
+  std::ostringstream out, err;
+  EXPECT_EQ(losmimo::apps::run_eval_app(o, out, err), 2);
+  EXPECT_NE(err.str().find("[channel] rician_k_db: 10 is not supported by losmimo-eval"), std::string::npos) << err.str();
+}
+
 TEST(LosmimoEval, BadConfigValue_ExitTwo) {
   losmimo::apps::EvalOptions o;
   o.positions_path = kExamples + "ura_optimal_16.csv";

@@ -37,6 +37,10 @@ std::map<std::string, std::set<std::string>> placement_config_keys();
 // call common::IniConfig::require_known with the keys of every reader of the file.
 PlacementSettings load_placement_settings(const common::IniConfig& config);
 
+// For tools that evaluate the LoS channel only (losmimo-eval, the closed loop's record/replay and
+// co-evaluation): [channel] conditions are refused, common::InputError naming key and value.
+void require_los_channel(const ChannelSettings& channel, const common::IniConfig& config, const std::string& tool);
+
 // The settings as INI text, in table order (what datasets/configs/paper.ini holds, sorted).
 std::string to_ini(const PlacementSettings& settings);
 
