@@ -150,6 +150,17 @@ TEST(ChannelSweeps, BsAntennas_RunsSixteenStreamsPerUavOnALargerArray) {
   }
 }
 
+TEST(ChannelSweeps, EveryRefusedValue_NamesFileLineAndKey) {
+  for (const auto& k : channel_sweep_keys().keys()) {
+    ASSERT_FALSE(k.refused.empty()) << k.key;
+    for (const std::string& bad : k.refused) {
+      // The sweep key is line 9 of the text, the swept values line 10.
+      const std::string msg = error_of("sweeps = rician_k_db, csi_snr_db, bs_antennas\n" + k.key + " = " + bad + "\n");
+      EXPECT_EQ(msg.rfind("c.ini:10: [experiment] " + k.key + ": ", 0), 0u) << bad << " -> " << msg;
+    }
+  }
+}
+
 TEST(ChannelSweeps, BadValues_StopBeforeAnyWorkNamingTheKey) {
   EXPECT_NE(error_of("sweeps = rician_k_db\nrician_k_db_values = 0, nan\n").find("[experiment] rician_k_db_values"),
             std::string::npos);
