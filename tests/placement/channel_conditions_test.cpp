@@ -252,3 +252,21 @@ TEST(ChannelConditionsRun, Fading_StopsOnMeasuredCsiAndCountsMilestonesOnTheLoSG
   const Eigen::MatrixXcd L = model.matrix(r.final_m);
   EXPECT_GT((swarm.channel().H() - L).norm(), 0.1 * L.norm());
 }
+
+TEST(ChannelConditionsRun, CoherenceBlocks_RedrawTheSwarmsScatterOnlyAtBlockStarts) {
+  // GIVEN K = 10 dB, perfect CSI, blocks of 3 iterations, a swarm that does not move
+  const lp::Scenario s;
+  const lp::ChannelModel model(s);
+  lp::Swarm swarm(model, lp::optimal_ura_positions_m(s), {}, 3);
+  swarm.set_channel_conditions(lp::ChannelConditions(conditions(10.0, kInf, 3), 16, 16, 4, 5));
+  Eigen::MatrixXcd previous = swarm.true_channel();
+  for (int i = 1; i <= 8; ++i) {
+    swarm.begin_iteration(i);
+    const Eigen::MatrixXcd now = swarm.true_channel();
+    // THEN the true channel changes exactly at iterations 1 + k c (k >= 1)
+    EXPECT_EQ(now != previous, i == 4 || i == 7) << i;
+    // AND every cached row was measured again: without estimation noise, the true channel
+    EXPECT_TRUE(swarm.channel().H().isApprox(now, 1e-12)) << i;
+    previous = now;
+  }
+}
