@@ -18,6 +18,7 @@
 
 #include "losmimo/apps/experiment_app.h"
 #include "losmimo/coevaluation/extensions.h"
+#include "losmimo/experiment/channel_sweeps.h"
 
 namespace {
 
@@ -82,7 +83,8 @@ int main(int argc, char** argv) {
   if (out_option->count() > 0) options.out_dir = out_dir;
   if (shard_option->count() > 0) options.shard = shard;
   if (resume_option->count() > 0) options.resume_dir = resume_dir;
-  const losmimo::experiment::ExperimentExtensions extensions = losmimo::coevaluation::experiment_extensions();
+  losmimo::experiment::ExperimentExtensions extensions = losmimo::coevaluation::experiment_extensions();
+  for (auto& e : losmimo::experiment::channel_sweep_extensions()) extensions.push_back(std::move(e));
   if (merge->parsed()) return losmimo::apps::merge_experiment_app(merge_options, extensions, std::cout, std::cerr);
 
 #ifdef LOSMIMO_WITH_MPI

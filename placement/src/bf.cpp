@@ -19,7 +19,7 @@ double probe(Swarm& swarm, const UavObjective& view, int m, const Eigen::Vector3
   }
   thread_local Eigen::VectorXcd row;  // reused: a probe allocates nothing
   swarm.move(m, r, MotionKind::kProbe, false);
-  swarm.channel().model().row(swarm.true_positions_m().col(m), row);
+  swarm.measure_row_into(m, row);  // the LoS row, or with channel conditions a measurement
   const double f = view.objective_of_row(row);
   swarm.move(m, -r, MotionKind::kProbe, false);
   return f;
@@ -127,7 +127,8 @@ void BruteForcePlanner::iterate(Swarm& swarm, int iteration) {
     step_scale_(m) = moved ? std::min(1.0, step_scale_(m) / options_.contraction)
                            : step_scale_(m) * options_.contraction;
   }
-  if (options_.escape && stall_.update(swarm.channel().objective()) && try_escape(swarm)) {
+  const double f = swarm.channel().objective();
+  if (options_.escape && stall_.update(f) && swarm.escape_allowed(f) && try_escape(swarm)) {
     stall_.reset();
   }
 }

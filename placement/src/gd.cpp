@@ -92,7 +92,8 @@ void GradientDescentPlanner::iterate(Swarm& swarm, int iteration) {
     swarm.move(m, r, MotionKind::kPlacement);
     q_hat.col(m) += r;
   }
-  if (options_.escape && stall_.update(swarm.channel().objective()) && try_escape(swarm)) {
+  const double f = swarm.channel().objective();
+  if (options_.escape && stall_.update(f) && swarm.escape_allowed(f) && try_escape(swarm)) {
     stall_.reset();
   }
 }

@@ -8,18 +8,20 @@
 namespace losmimo::placement {
 
 double inverse_condition_number(const Eigen::MatrixXcd& H) {
-  if (H.rows() < H.cols() || H.size() == 0) return 0.0;
+  if (H.size() == 0) return 0.0;
   const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXcd>(H).singularValues();
   const double sigma_max = sv(0);
   return sigma_max > 0.0 ? sv(sv.size() - 1) / sigma_max : 0.0;
 }
 
 double objective(const Eigen::MatrixXcd& H) {
+  if (H.rows() < H.cols()) return objective(H.transpose());  // the UAVs' Gram matrix
   const Eigen::MatrixXcd G = H.adjoint() * H;
   return G.squaredNorm() - G.diagonal().squaredNorm();
 }
 
 StreamSinr stream_sinr(const Eigen::MatrixXcd& H, double noise_variance) {
+  if (H.rows() < H.cols()) return stream_sinr(H.transpose(), noise_variance);  // one stream per UAV
   const Eigen::Index nt = H.cols();
   const Eigen::MatrixXcd G = H.adjoint() * H;
   StreamSinr out;

@@ -49,8 +49,8 @@ DistanceKind distance_kind_from_string(const std::string& name) {
 std::optional<PlannerFault> check_finite(const Swarm& swarm) {
   const Eigen::Matrix3Xd& q = swarm.true_positions_m();
   const Eigen::MatrixXcd& H = swarm.channel().H();
+  if (q.allFinite() && H.allFinite() && swarm.channel().gram_is_finite()) return std::nullopt;  // the usual case
   const Eigen::MatrixXcd& G = swarm.channel().gram();
-  if (q.allFinite() && H.allFinite() && G.allFinite()) return std::nullopt;  // the usual case
   std::ostringstream reason;
   for (Eigen::Index m = 0; m < q.cols(); ++m) {
     if (!q.col(m).allFinite()) {
@@ -191,14 +191,18 @@ IterationRecord record(const Swarm& swarm, int iteration, const RunOptions& opti
   IterationRecord r;
   r.iteration = iteration;
   const SwarmChannel& ch = swarm.channel();
-  r.icn = proven_below > 0.0 && icn_below(ch.gram(), ch.num_uavs(), proven_below, &icn_warm_start)
+  // With channel conditions every iteration is evaluated in full: the shortcut's thresholds are
+  // the milestones', which then come from another matrix.
+  const bool conditions = swarm.channel_conditions().active();
+  r.icn = !conditions && proven_below > 0.0 && icn_below(ch.gram(), ch.num_uavs(), proven_below, &icn_warm_start)
               ? std::numeric_limits<double>::quiet_NaN()
               : icn_from_gram(ch.gram(), ch.num_uavs());
+  r.icn_los = conditions ? inverse_condition_number(ch.model().matrix(swarm.true_positions_m())) : r.icn;
   r.objective = ch.objective();
   r.placement_dist_m = placement_distances(swarm, options).mean();
   r.probe_dist_m = probe_distances(swarm, options).mean();
   if (options.trace_sinr) {
-    const StreamSinr sinr = stream_sinr(ch.H(), options.noise_variance);
+    const StreamSinr sinr = stream_sinr(conditions ? swarm.true_channel() : ch.H(), options.noise_variance);
     r.sinr_nv_db = to_db(sinr.nv(0));
     r.sinr_zf_db = to_db(sinr.zf(0));
     r.sinr_mf_db = to_db(sinr.mf(0));
@@ -206,8 +210,9 @@ IterationRecord record(const Swarm& swarm, int iteration, const RunOptions& opti
   return r;
 }
 
+// Milestones are read on the true LoS channel (icn_los), whatever the planners measure.
 void update_milestone(Milestone& m, const IterationRecord& r, double threshold, bool with_probes) {
-  if (!m.reached && r.icn >= threshold) {
+  if (!m.reached && r.icn_los >= threshold) {
     m.reached = true;
     m.iteration = r.iteration;
     m.placement_dist_m = with_probes ? r.placement_dist_m + r.probe_dist_m : r.placement_dist_m;
@@ -267,6 +272,7 @@ RunResult run_placement(Planner& planner, Swarm& swarm, const RunOptions& option
   if (!fault || fault->status != RunStatus::kNumericalFault) done = observe(0);
   while (!fault && !done && iteration < options.max_iterations) {
     ++iteration;
+    swarm.begin_iteration(iteration);
     planner.iterate(swarm, iteration);
     fault = health(iteration);
     // A non-finite swarm is not evaluated (the eigen-solve of a NaN Gram matrix means nothing).

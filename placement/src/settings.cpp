@@ -145,6 +145,36 @@ std::vector<common::Key<UraOptions>> ura_keys() {
   };
 }
 
+// [channel]: off (inf) by default; each key only written when set, so that every config and
+// recorded mission without them keeps its text.
+std::vector<common::Key<ChannelSettings>> channel_keys() {
+  using K = common::Key<ChannelSettings>;
+  const auto db_key = [](const std::string& key, double ChannelSettings::*field, double lo, double hi,
+                         const std::string& doc, const std::string& example) {
+    K k = K::text(
+        "channel", key,
+        [field, lo, hi](ChannelSettings& c, const std::string& text, const std::string& where) {
+          c.*field = parse_db_or_inf(text, where, lo, hi);
+        },
+        [field](const ChannelSettings& c) { return format_db_or_inf(c.*field); },
+        "dB in [" + common::format_double(lo) + ", " + common::format_double(hi) + "], or inf", doc, example);
+    k.refused = {"nan", "-inf", "not-a-number", common::format_double(lo - 1.0), common::format_double(hi + 1.0)};
+    return std::move(k).unless_default();
+  };
+  return {
+      db_key("rician_k_db", &ChannelSettings::rician_k_db, kMinRicianK_db, kMaxRicianK_db,
+             "Rician K-factor: LoS over scattered power (docs/model.md); inf = pure LoS", "10"),
+      K::integer("channel", "coherence_iterations", &ChannelSettings::coherence_iterations, 1,
+                 kMaxCoherenceIterations, "iterations per draw of the scattered component (block fading)", "5")
+          .unless_default(),
+      db_key("csi_snr_db", &ChannelSettings::csi_snr_db, kMinCsiSnr_db, kMaxCsiSnr_db,
+             "SNR of the measured channel per entry (pilot estimate); inf = perfect CSI", "20"),
+      K::integer("channel", "fading_eval_draws", &ChannelSettings::fading_eval_draws, 1, kMaxFadingEvalDraws,
+                 "scatter draws averaged by the final metrics when rician_k_db is finite", "50")
+          .unless_default(),
+  };
+}
+
 template <typename Inner>
 void append(std::vector<common::Key<PlacementSettings>>& keys, const std::vector<common::Key<Inner>>& inner,
             Inner PlacementSettings::*member, const std::string& member_name) {
@@ -165,6 +195,7 @@ const common::KeyTable<PlacementSettings>& placement_keys() {
     append(keys, run_override_keys("bf"), &PlacementSettings::bf_run, "bf_run");
     append(keys, ura_keys(), &PlacementSettings::ura, "ura");
     append(keys, run_override_keys("ura"), &PlacementSettings::ura_run, "ura_run");
+    append(keys, channel_keys(), &PlacementSettings::channel, "channel");
     return common::KeyTable<PlacementSettings>(std::move(keys));
   }();
   return table;
@@ -183,6 +214,7 @@ PlacementSettings load_placement_settings(const common::IniConfig& cfg) {
   keys.check(cfg, "gd", [&] { validate(s.gd); });
   keys.check(cfg, "bf", [&] { validate(s.bf); });
   keys.check(cfg, "ura", [&] { validate(s.ura, s.scenario); });
+  keys.check(cfg, "channel", [&] { validate(s.channel); });
   return s;
 }
 
@@ -190,6 +222,15 @@ RunOptions with_override(RunOptions run, const RunOverride& o) {
   if (o.target_icn > 0.0) run.target_icn = o.target_icn;
   if (o.max_iterations >= 0) run.max_iterations = o.max_iterations;
   return run;
+}
+
+void require_los_channel(const ChannelSettings& channel, const common::IniConfig& config, const std::string& tool) {
+  const auto refuse = [&](const std::string& key, double value) {
+    throw common::InputError(config.where("channel", key) + ": " + format_db_or_inf(value) + " is not supported by " +
+                             tool + ", which models the LoS channel with perfect CSI (use losmimo-experiment)");
+  };
+  if (channel.fading()) refuse("rician_k_db", channel.rician_k_db);
+  if (channel.noisy_csi()) refuse("csi_snr_db", channel.csi_snr_db);
 }
 
 std::string to_ini(const PlacementSettings& settings) { return placement_keys().to_ini(settings); }

@@ -22,9 +22,12 @@ void StallDetector::reset() { count_ = 0; }
 
 std::vector<int> uavs_by_redundancy(const SwarmChannel& channel) {
   // The left singular vector of sigma_min is H v / sigma_min with v the eigenvector of the
-  // smallest eigenvalue of G = H^H H: an Nt x Nt Hermitian problem instead of an SVD of H.
+  // smallest eigenvalue of G = H^H H: an Nt x Nt Hermitian problem instead of an SVD of H. On
+  // the UAV side (Nr < Nt) the Gram matrix is K = H H^H, whose eigenvector is that vector itself.
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> eig(channel.gram());
-  const Eigen::VectorXd weight = (channel.H() * eig.eigenvectors().col(0)).cwiseAbs2();
+  const Eigen::VectorXd weight = channel.gram_side() == SwarmChannel::GramSide::kUavs
+                                     ? Eigen::VectorXd(eig.eigenvectors().col(0).cwiseAbs2())
+                                     : Eigen::VectorXd((channel.H() * eig.eigenvectors().col(0)).cwiseAbs2());
   std::vector<int> order(weight.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return weight(a) > weight(b); });

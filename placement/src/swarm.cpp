@@ -101,10 +101,56 @@ Eigen::Vector3d Swarm::move(int m, const Eigen::Vector3d& r_m, MotionKind kind, 
     return Eigen::Vector3d::Zero();
   }
   q_m_.col(m) += actual;
-  if (update_channel) channel_.set_position(m, q_m_.col(m));
+  if (update_channel) sync_channel(m);
   (kind == MotionKind::kProbe ? probe_dist_m_ : placement_dist_m_)(m) += actual.norm();
   (kind == MotionKind::kProbe ? commanded_probe_dist_m_ : commanded_placement_dist_m_)(m) += r_m.norm();
   return actual;
+}
+
+void Swarm::sync_channel(int m) {
+  if (!conditions_.active()) {
+    channel_.set_position(m, q_m_.col(m));
+    return;
+  }
+  thread_local Eigen::VectorXcd row;
+  measure_row_into(m, row);
+  channel_.set_row(m, row);
+}
+
+void Swarm::set_channel_conditions(const ChannelConditions& conditions) {
+  if (conditions.active() &&
+      (conditions.num_uavs() != num_uavs() || conditions.num_antennas() != channel_.model().num_antennas())) {
+    throw std::invalid_argument("Swarm: channel conditions for " + std::to_string(conditions.num_uavs()) + " x " +
+                                std::to_string(conditions.num_antennas()) + ", the swarm is " +
+                                std::to_string(num_uavs()) + " x " + std::to_string(channel_.model().num_antennas()));
+  }
+  conditions_ = conditions;
+  if (!conditions_.active()) return;
+  for (int m = 0; m < num_uavs(); ++m) sync_channel(m);
+  channel_.refresh();
+}
+
+void Swarm::begin_iteration(int iteration) {
+  if (!conditions_.active() || !conditions_.begin_iteration(iteration) || !conditions_.settings().fading()) return;
+  for (int m = 0; m < num_uavs(); ++m) sync_channel(m);
+  channel_.refresh();
+}
+
+void Swarm::measure_row_into(int m, Eigen::VectorXcd& x) {
+  channel_.model().row(q_m_.col(m), x);
+  if (conditions_.active()) conditions_.measure_row(m, x);
+}
+
+Eigen::MatrixXcd Swarm::true_channel() const {
+  Eigen::MatrixXcd H = channel_.model().matrix(q_m_);
+  if (conditions_.settings().fading()) {
+    for (int m = 0; m < num_uavs(); ++m) {
+      Eigen::VectorXcd row = H.row(m).transpose();
+      conditions_.fade_row(m, row);
+      H.row(m) = row.transpose();
+    }
+  }
+  return H;
 }
 
 }  // namespace losmimo::placement

@@ -1,6 +1,10 @@
 #include "losmimo/placement/swarm_channel.h"
 
-#include "losmimo/placement/metrics.h"
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <stdexcept>
+#include <string>
 
 namespace losmimo::placement {
 
@@ -10,166 +14,229 @@ constexpr int kRefreshEvery = 256;
 }  // namespace
 
 SwarmChannel::SwarmChannel(const ChannelModel& model, const Eigen::Matrix3Xd& q_m)
-    : model_(&model), H_(model.matrix(q_m)) {
+    : model_(&model),
+      side_(q_m.cols() < model.num_antennas() ? GramSide::kUavs : GramSide::kBsAntennas),
+      ld_(model.geometry().ld),
+      H_(model.matrix(q_m)) {
+  const int nr = num_uavs(), nt = model.num_antennas();
+  row_re_.assign(static_cast<std::size_t>(ld_) * nr, 0.0);
+  row_im_.assign(static_cast<std::size_t>(ld_) * nr, 0.0);
+  for (int m = 0; m < nr; ++m) {
+    for (int k = 0; k < nt; ++k) {
+      row_re_[static_cast<std::size_t>(m) * ld_ + k] = H_(m, k).real();
+      row_im_[static_cast<std::size_t>(m) * ld_ + k] = H_(m, k).imag();
+    }
+  }
+  if (side_ == GramSide::kBsAntennas) {
+    gram_re_.assign(static_cast<std::size_t>(ld_) * nt, 0.0);
+    gram_im_.assign(static_cast<std::size_t>(ld_) * nt, 0.0);
+  }
   refresh();
 }
 
-double SwarmChannel::objective() const { return G_.squaredNorm() - G_.diagonal().squaredNorm(); }
+kernels::GramPlanes SwarmChannel::gram_planes() const {
+  if (side_ == GramSide::kUavs) throw std::logic_error("SwarmChannel::gram_planes: the swarm keeps the UAVs' Gram matrix");
+  return {model_->num_antennas(), ld_, gram_re_.data(), gram_im_.data()};
+}
+
+const Eigen::MatrixXcd& SwarmChannel::gram() const {
+  if (side_ == GramSide::kUavs) return uav_gram_;
+  if (gram_stale_) {
+    const int nt = model_->num_antennas();
+    gram_.resize(nt, nt);
+    for (int k = 0; k < nt; ++k) {
+      for (int l = 0; l < nt; ++l) {
+        const std::size_t i = static_cast<std::size_t>(k) * ld_ + l;
+        gram_(l, k) = std::complex<double>(gram_re_[i], gram_im_[i]);
+      }
+    }
+    gram_stale_ = false;
+  }
+  return gram_;
+}
+
+bool SwarmChannel::gram_is_finite() const {
+  if (side_ == GramSide::kUavs) return uav_gram_.allFinite();
+  bool finite = true;
+  for (std::size_t i = 0; i < gram_re_.size(); ++i) {
+    finite = finite && std::isfinite(gram_re_[i]) && std::isfinite(gram_im_[i]);
+  }
+  return finite;
+}
+
+double SwarmChannel::objective() const {
+  if (side_ == GramSide::kUavs) return uav_gram_objective();
+  // sum_{l != k} |G_lk|^2: the leave-one-out energy of a zero row.
+  const std::vector<double> zero(ld_, 0.0);
+  return model_->kernels().leave_one_out_energy(gram_planes(), zero.data(), zero.data());
+}
 
 void SwarmChannel::set_position(int m, const Eigen::Vector3d& q_m) {
-  thread_local Eigen::VectorXcd x;  // reused: no allocation per move
-  model_->row(q_m, x);
-  set_row(m, x);
+  thread_local std::vector<double> re, im;  // reused: no allocation per move
+  re.resize(ld_);
+  im.resize(ld_);
+  model_->row_planes(q_m, re.data(), im.data());
+  replace_row(m, re.data(), im.data());
 }
-
-namespace {
-// G_lk += conj(x_l) x_k - conj(o_l) o_k over the whole matrix, in real arithmetic (conj(a) b has
-// real part a.re b.re + a.im b.im and imaginary part a.re b.im - a.im b.re). Entry (k, l) gets
-// the same products in the same order with the imaginary part's operands swapped, so exactly
-// the conjugate: G stays Hermitian bit for bit, with no mirror pass, and the loop vectorises.
-// GCC on x86-64 adds an AVX2 clone (no FMA: the same bits as the baseline).
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-void gram_row_update(double* __restrict g, const double* __restrict x, const double* __restrict o, int n) {
-  for (int k = 0; k < n; ++k) {
-    const double xr = x[2 * k], xi = x[2 * k + 1];
-    const double orr = o[2 * k], oi = o[2 * k + 1];
-    double* col = g + 2 * static_cast<std::ptrdiff_t>(k) * n;
-    for (int l = 0; l < n; ++l) {
-      const double ar = x[2 * l], ai = x[2 * l + 1];
-      const double br = o[2 * l], bi = o[2 * l + 1];
-      col[2 * l] += (ar * xr + ai * xi) - (br * orr + bi * oi);
-      col[2 * l + 1] += (ar * xi - ai * xr) - (br * oi - bi * orr);
-    }
-  }
-}
-}  // namespace
 
 void SwarmChannel::set_row(int m, const Eigen::VectorXcd& x) {
+  thread_local std::vector<double> re, im;
+  re.assign(ld_, 0.0);
+  im.assign(ld_, 0.0);
+  for (Eigen::Index k = 0; k < x.size(); ++k) {
+    re[k] = x(k).real();
+    im[k] = x(k).imag();
+  }
+  replace_row(m, re.data(), im.data());
+}
+
+void SwarmChannel::replace_row(int m, const double* re, const double* im) {
   // Remove the old row's outer product, add the new one: O(Nt^2).
-  thread_local Eigen::VectorXcd old;
-  old = H_.row(m).transpose();
-  gram_row_update(reinterpret_cast<double*>(G_.data()), reinterpret_cast<const double*>(x.data()),
-                  reinterpret_cast<const double*>(old.data()), static_cast<int>(x.size()));
-  H_.row(m) = x.transpose();
+  double* old_re = row_re_.data() + static_cast<std::ptrdiff_t>(m) * ld_;
+  double* old_im = row_im_.data() + static_cast<std::ptrdiff_t>(m) * ld_;
+  if (side_ == GramSide::kBsAntennas) {
+    model_->kernels().gram_update(gram_re_.data(), gram_im_.data(), model_->num_antennas(), ld_, re, im, old_re, old_im);
+  }
+  for (int k = 0; k < ld_; ++k) {
+    old_re[k] = re[k];
+    old_im[k] = im[k];
+  }
+  if (side_ == GramSide::kUavs) update_uav_gram(m);
+  for (Eigen::Index k = 0; k < H_.cols(); ++k) H_(m, k) = std::complex<double>(re[k], im[k]);
+  gram_stale_ = true;
+  ++version_;
   if (++updates_since_refresh_ >= kRefreshEvery) refresh();
 }
 
 void SwarmChannel::refresh() {
-  G_.noalias() = H_.adjoint() * H_;
+  if (side_ == GramSide::kUavs) {
+    rebuild_uav_gram();
+    updates_since_refresh_ = 0;
+    ++version_;
+    return;
+  }
+  const Eigen::MatrixXcd G = H_.adjoint() * H_;
   // Exactly Hermitian from here on (the updates keep it so): the product need not be.
-  for (Eigen::Index k = 0; k < G_.cols(); ++k) {
-    G_(k, k) = G_(k, k).real();
-    for (Eigen::Index l = k + 1; l < G_.rows(); ++l) G_(l, k) = std::conj(G_(k, l));
+  const int nt = model_->num_antennas();
+  for (int k = 0; k < nt; ++k) {
+    for (int l = 0; l < nt; ++l) {
+      const std::complex<double> g = l == k ? std::complex<double>(G(k, k).real(), 0.0)
+                                     : l > k ? G(l, k)
+                                             : std::conj(G(k, l));
+      gram_re_[static_cast<std::size_t>(k) * ld_ + l] = g.real();
+      gram_im_[static_cast<std::size_t>(k) * ld_ + l] = g.imag();
+    }
   }
+  gram_stale_ = true;
   updates_since_refresh_ = 0;
+  ++version_;
 }
 
-namespace {
-// y = (R + j I) x for real Nt x Nt matrices R, I (column-major) and x = xr + j xi: four real
-// column sweeps that vectorise. GCC on x86-64 adds an AVX2 clone chosen at load time; no FMA
-// in either clone, and the same operation order, so both give the same bits.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-void complex_matvec(const double* __restrict R, const double* __restrict I, const double* __restrict xr,
-                    const double* __restrict xi, double* __restrict yr, double* __restrict yi, int n) {
-  for (int l = 0; l < n; ++l) yr[l] = yi[l] = 0.0;
-  for (int k = 0; k < n; ++k) {
-    const double a = xr[k], b = xi[k];
-    const double* r = R + static_cast<std::ptrdiff_t>(k) * n;
-    const double* i = I + static_cast<std::ptrdiff_t>(k) * n;
-    for (int l = 0; l < n; ++l) {
-      yr[l] += r[l] * a - i[l] * b;
-      yi[l] += r[l] * b + i[l] * a;
-    }
+UavObjective::UavObjective(const SwarmChannel& swarm, int m) : swarm_(&swarm), m_(m), version_(swarm.version()) {
+  if (m < 0 || m >= swarm.num_uavs()) {
+    throw std::out_of_range("UavObjective: UAV " + std::to_string(m) + " of " + std::to_string(swarm.num_uavs()));
   }
 }
-}  // namespace
 
-UavObjective::UavObjective(const SwarmChannel& swarm, int m) : model_(&swarm.model()) {
-  // A = G - conj(x) x^T, stored conjugated: conj(A)_lk = conj(G_lk) - x_l conj(x_k), with
-  // x_l conj(x_k) = (a c + b d, b c - a d) for x_l = a + jb, x_k = c + jd.
-  const Eigen::MatrixXcd& H = swarm.H();
-  const Eigen::MatrixXcd& G = swarm.gram();
-  const Eigen::Index nt = G.cols();
-  A_conj_re_.resize(nt, nt);
-  A_conj_im_.resize(nt, nt);
-  thread_local Eigen::VectorXcd x;
-  x = H.row(m).transpose();
-  const double* xn = reinterpret_cast<const double*>(x.data());
-  A_diag_.resize(nt);
-  for (Eigen::Index k = 0; k < nt; ++k) {
-    const double c = xn[2 * k], d = xn[2 * k + 1];
-    const double* g = reinterpret_cast<const double*>(G.col(k).data());
-    double* re = A_conj_re_.col(k).data();
-    double* im = A_conj_im_.col(k).data();
-    for (Eigen::Index l = 0; l < nt; ++l) {
-      const double xr = xn[2 * l], xi = xn[2 * l + 1];
-      re[l] = g[2 * l] - (xr * c + xi * d);
-      im[l] = -g[2 * l + 1] - (xi * c - xr * d);
-    }
-    A_diag_(k) = re[k];
+void UavObjective::check_current() const {
+  if (swarm_->version() != version_) {
+    throw std::logic_error("UavObjective of UAV " + std::to_string(m_) + " used after the swarm's channel changed");
   }
-  F_A_ = A_conj_re_.squaredNorm() + A_conj_im_.squaredNorm() - A_diag_.squaredNorm();
 }
 
-void UavObjective::apply_conj_A(const Eigen::VectorXcd& x, Eigen::VectorXcd& Ax) const {
-  const int nt = static_cast<int>(x.size());
-  thread_local Eigen::VectorXd xr, xi, yr, yi;
-  xr = x.real();
-  xi = x.imag();
-  yr.resize(nt);
-  yi.resize(nt);
-  complex_matvec(A_conj_re_.data(), A_conj_im_.data(), xr.data(), xi.data(), yr.data(), yi.data(), nt);
-  Ax.resize(nt);
-  Ax.real() = yr;
-  Ax.imag() = yi;
-}
-
-double UavObjective::objective_given(const Eigen::VectorXcd& x, const Eigen::ArrayXd& p,
-                                     const Eigen::VectorXcd& Ax) const {
-  const double s = p.sum();
-  const double hermitian_form = x.dot(Ax).real();
-  return F_A_ + 2.0 * hermitian_form - 2.0 * (A_diag_.array() * p).sum() + s * s -
-         p.square().sum();
+double UavObjective::leave_one_out_energy() const {
+  if (!have_F_A_) {
+    F_A_ = uav_side() ? uav_side_others_energy()
+                      : swarm_->model().kernels().leave_one_out_energy(swarm_->gram_planes(), swarm_->row_re(m_),
+                                                                       swarm_->row_im(m_));
+    have_F_A_ = true;
+  }
+  return F_A_;
 }
 
 double UavObjective::objective_of_row(const Eigen::VectorXcd& x) const {
-  // Per-thread scratch instead of temporaries: a BF probe allocates nothing.
-  thread_local Eigen::ArrayXd p;
-  thread_local Eigen::VectorXcd Ax;
-  p = x.cwiseAbs2().array();
-  apply_conj_A(x, Ax);
-  return objective_given(x, p, Ax);
+  check_current();
+  const int ld = swarm_->model().geometry().ld;
+  thread_local std::vector<double> re, im;
+  re.assign(ld, 0.0);
+  im.assign(ld, 0.0);
+  for (Eigen::Index k = 0; k < x.size(); ++k) {
+    re[k] = x(k).real();
+    im[k] = x(k).imag();
+  }
+  if (uav_side()) return uav_side_objective(re.data(), im.data(), nullptr);
+  return swarm_->model().kernels().objective_of_row(swarm_->gram_planes(), swarm_->row_re(m_), swarm_->row_im(m_),
+                                                    leave_one_out_energy(), re.data(), im.data());
 }
 
 double UavObjective::objective_at(const Eigen::Vector3d& q_m) const {
-  thread_local Eigen::VectorXcd x;
-  model_->row(q_m, x);
-  return objective_of_row(x);
+  check_current();
+  if (uav_side()) return uav_side_objective_at(q_m);
+  const ChannelModel& model = swarm_->model();
+  const double q[3] = {q_m.x(), q_m.y(), q_m.z()};
+  return model.kernels().objective_at(model.geometry(), swarm_->gram_planes(), swarm_->row_re(m_),
+                                      swarm_->row_im(m_), leave_one_out_energy(), q);
 }
 
 Eigen::Vector3d UavObjective::gradient_at(const Eigen::Vector3d& q_m, double* objective) const {
-  thread_local Eigen::VectorXcd x, s, Ax;
-  thread_local Eigen::Matrix3Xd U;
-  thread_local Eigen::ArrayXd p;
-  model_->row(q_m, x);
-  model_->row_derivative_terms(q_m, s, U);
-  p = x.cwiseAbs2().array();
-  const double total_power = p.sum();
-  apply_conj_A(x, Ax);
-  if (objective) *objective = objective_given(x, p, Ax);
-  // sum_{k != l} conj(B_lk) x_k = (conj(A) x)_l - conj(A)_ll x_l + x_l (S - |x_l|^2)
-  Eigen::Vector3d grad = Eigen::Vector3d::Zero();
-  for (Eigen::Index l = 0; l < x.size(); ++l) {
-    const std::complex<double> inner =
-        Ax(l) - A_diag_(l) * x(l) + x(l) * (total_power - p(l));
-    const std::complex<double> Q = std::conj(x(l)) * inner;
-    grad += 4.0 * (std::conj(s(l)) * Q).real() * U.col(l);
+  check_current();
+  if (uav_side()) {
+    double grad[3];
+    const double f = uav_side_gradient(q_m, grad);
+    if (objective) *objective = f;
+    return {grad[0], grad[1], grad[2]};
   }
-  return grad;
+  const ChannelModel& model = swarm_->model();
+  const double q[3] = {q_m.x(), q_m.y(), q_m.z()};
+  double grad[3];
+  const double f = model.kernels().gradient(model.geometry(), swarm_->gram_planes(), swarm_->row_re(m_),
+                                            swarm_->row_im(m_), leave_one_out_energy(), q, grad);
+  if (objective) *objective = f;
+  return {grad[0], grad[1], grad[2]};
+}
+
+void UavObjective::objectives_at(const Eigen::Ref<const Eigen::Matrix3Xd>& q_m, bool with_current_row,
+                                 double* f) const {
+  check_current();
+  constexpr int kLanes = kernels::kLanes;
+  const int first = with_current_row ? 1 : 0;
+  const int count = first + static_cast<int>(q_m.cols());
+  if (count < 1 || count > kLanes) {
+    throw std::invalid_argument("UavObjective::objectives_at: " + std::to_string(count) + " candidates, at most " +
+                                std::to_string(kLanes));
+  }
+  if (uav_side()) {
+    if (with_current_row) f[0] = uav_side_objective(swarm_->row_re(m_), swarm_->row_im(m_), nullptr);
+    for (int c = 0; c < static_cast<int>(q_m.cols()); ++c) f[first + c] = uav_side_objective_at(q_m.col(c));
+    return;
+  }
+  const ChannelModel& model = swarm_->model();
+  const int ld = model.geometry().ld;
+  thread_local std::vector<double> Xr, Xi;
+  Xr.resize(static_cast<std::size_t>(ld) * kLanes);
+  Xi.resize(static_cast<std::size_t>(ld) * kLanes);
+  // Unused lanes repeat the last candidate (its f is computed and dropped).
+  double px[kLanes], py[kLanes], pz[kLanes];
+  for (int p = 0; p < kLanes; ++p) {
+    const int c = p < first ? 0 : std::min<int>(p - first, static_cast<int>(q_m.cols()) - 1);
+    const bool have = q_m.cols() > 0;
+    px[p] = have ? q_m(0, c) : 0.0;
+    py[p] = have ? q_m(1, c) : 0.0;
+    pz[p] = have ? q_m(2, c) : 0.0;
+  }
+  model.kernels().rows_lanes(model.geometry(), px, py, pz, Xr.data(), Xi.data());
+  if (with_current_row) {
+    const double* re = swarm_->row_re(m_);
+    const double* im = swarm_->row_im(m_);
+    for (int k = 0; k < ld; ++k) {
+      Xr[static_cast<std::size_t>(k) * kLanes] = re[k];
+      Xi[static_cast<std::size_t>(k) * kLanes] = im[k];
+    }
+  }
+  double all[kLanes];
+  model.kernels().objectives_lanes(swarm_->gram_planes(), swarm_->row_re(m_), swarm_->row_im(m_), Xr.data(),
+                                   Xi.data(), all);
+  for (int p = 0; p < count; ++p) f[p] = all[p];
 }
 
 }  // namespace losmimo::placement

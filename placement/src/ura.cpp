@@ -94,9 +94,9 @@ double lattice_depth_band_m(const Scenario& s) {
 UraPlanner::UraPlanner(const Scenario& scenario, UraVariant variant, const UraOptions& options)
     : scenario_(scenario), variant_(variant), options_(options) {
   validate(options_, scenario);
-  if (scenario.num_uavs != scenario.num_bs_antennas()) {
+  if (scenario.num_uavs > scenario.num_bs_antennas()) {
     throw std::invalid_argument("ura: scenario.num_uavs = " + std::to_string(scenario.num_uavs) +
-                                " must equal bs_rows * bs_cols = " +
+                                " must be at most bs_rows * bs_cols = " +
                                 std::to_string(scenario.num_bs_antennas()));
   }
 }
@@ -157,9 +157,11 @@ void UraPlanner::start(Swarm& swarm) {
     if (own_depth) return at_own_depth(slot, q_hat.col(m));
     return rigid.col(slot);
   };
-  Eigen::MatrixXd cost(n, n);
+  // n x Nt: with fewer UAVs than slots the assignment also picks which slots are used.
+  const int slots = static_cast<int>(rigid.cols());
+  Eigen::MatrixXd cost(n, slots);
   for (int m = 0; m < n; ++m) {
-    for (int slot = 0; slot < n; ++slot) cost(m, slot) = (target_of(m, slot) - q_hat.col(m)).norm();
+    for (int slot = 0; slot < slots; ++slot) cost(m, slot) = (target_of(m, slot) - q_hat.col(m)).norm();
   }
   const std::vector<int> slot_of = min_cost_assignment(cost);
   targets_m_.resize(3, n);

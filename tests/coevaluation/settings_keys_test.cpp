@@ -87,6 +87,14 @@ TEST(CoevaluationKeys, OldSpellings_AreRefusedNamingTheClosedLoopKey) {
   }
 }
 
+TEST(CoevaluationKeys, ChannelConditions_AreRefusedNamingTheKey) {
+  EXPECT_EQ(error_of("[channel]\ncsi_snr_db = 20\n"),
+            "c.ini:2: [channel] csi_snr_db: 20 is not supported by co-evaluation, which models the LoS channel with "
+            "perfect CSI (use losmimo-experiment)");
+  EXPECT_NE(error_of("[channel]\nrician_k_db = 0\n").find("[channel] rician_k_db: 0 is not supported"),
+            std::string::npos);
+}
+
 TEST(CoevaluationKeys, RuleFailures_NameTheKeyWithFileAndLine) {
   // The closed loop's own rules for the shared keys.
   EXPECT_EQ(error_of("[closed_loop]\nbeacon_sigma_range_m = -1\n"),

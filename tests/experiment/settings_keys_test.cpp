@@ -52,12 +52,13 @@ TEST(ExperimentKeys, ChecksAcrossKeys_NameTheKey) {
             "e.ini:2: [experiment] sweeps: unknown sweep 'beacon_noise_m' (known: sigma_loc_m, sigma_act_m)");
   EXPECT_EQ(error_of("[experiment]\nsweeps = sigma_act_m, sigma_act_m\n"),
             "e.ini:2: [experiment] sweeps: sweep 'sigma_act_m' listed twice");
-  // URA needs a swarm the size of the array; the algorithms key is named even when not given.
-  EXPECT_EQ(error_of("[scenario]\nnum_uavs = 9\n"),
-            "[experiment] algorithms: ura needs scenario.num_uavs = bs_rows * bs_cols (16), got 9");
-  EXPECT_EQ(error_of("[scenario]\nnum_uavs = 9\n[experiment]\nalgorithms = gd, ura_lattice\n"),
-            "e.ini:4: [experiment] algorithms: ura_lattice needs scenario.num_uavs = bs_rows * bs_cols (16), got 9");
-  EXPECT_EQ(error_of("[scenario]\nnum_uavs = 9\n[experiment]\nalgorithms = gd, bf\n"), "accepted");
+  // URA needs a slot per UAV; the algorithms key is named even when not given.
+  EXPECT_EQ(error_of("[scenario]\nnum_uavs = 20\n"),
+            "[experiment] algorithms: ura needs scenario.num_uavs <= bs_rows * bs_cols (16), got 20");
+  EXPECT_EQ(error_of("[scenario]\nnum_uavs = 20\n[experiment]\nalgorithms = gd, ura_lattice\n"),
+            "e.ini:4: [experiment] algorithms: ura_lattice needs scenario.num_uavs <= bs_rows * bs_cols (16), got 20");
+  EXPECT_EQ(error_of("[scenario]\nnum_uavs = 20\n[experiment]\nalgorithms = gd, bf\n"), "accepted");
+  EXPECT_EQ(error_of("[scenario]\nnum_uavs = 9\n"), "accepted");  // 9 of the 16 slots
 }
 
 TEST(ExperimentKeys, SigmaPointsOfASweepNotRun_AreNotWritten) {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "losmimo/coevaluation/coevaluation.h"
+#include "losmimo/experiment/channel_sweeps.h"
 #include "losmimo/experiment/settings.h"
 #include "losmimo/fusion/closed_loop_settings.h"
 #include "losmimo/placement/settings.h"
@@ -30,6 +31,9 @@ std::string reference() {
          "beacon_outage`)\n\n" +
          coevaluation::coevaluation_keys().markdown({"coevaluation"}) +
          "\nThe co-evaluation also reads the closed loop's sensor keys listed below (`[closed_loop]`).\n"
+         "\n## Channel sweeps (`losmimo-experiment`, `[experiment] sweeps = rician_k_db, csi_snr_db, "
+         "bs_antennas`)\n\n" +
+         experiment::channel_sweep_keys().markdown() +
          "\n## Closed loop (`losmimo-record`, and the co-evaluation's shared settings)\n\n" +
          fusion::closed_loop_keys().markdown() + "\n## Mission (`losmimo-record`)\n\n" +
          rawlog::mission_keys().markdown();

@@ -57,6 +57,12 @@ TEST(MissionConfigFaults, FaultKeys_ParseRoundTripAndRejectBadValues) {
   EXPECT_TRUE(contains(error("[closed_loop]\nunresponsive_after_iterations = 0\n"),
                        "unresponsive_after_iterations"));
   EXPECT_TRUE(contains(error("[closed_loop]\nfaults = unresponsive:1:2\n"), "accepted"));
+  // The closed loop models the LoS channel with perfect CSI: channel conditions are refused.
+  EXPECT_EQ(error("[channel]\nrician_k_db = 10\n"),
+            "m.ini:2: [channel] rician_k_db: 10 is not supported by the closed-loop mission, which models the LoS "
+            "channel with perfect CSI (use losmimo-experiment)");
+  EXPECT_TRUE(contains(error("\n[channel]\ncsi_snr_db = 20\n"), "m.ini:3: [channel] csi_snr_db: 20"));
+  EXPECT_EQ(error("[channel]\nrician_k_db = inf\ncoherence_iterations = 4\n"), "accepted");
 }
 
 TEST(MissionConfigFaults, BeaconRangeLimitKey_ParsesRoundTripsAndRejectsBadValues) {

@@ -31,7 +31,7 @@ void print_csv(const LinkMetrics& m, std::ostream& out) {
       << m.sum_rate_nv_bps_hz << "\nsum_rate_zf_bps_hz," << m.sum_rate_zf_bps_hz << "\n";
 }
 
-void print_table(const LinkMetrics& m, int nr, std::ostream& out) {
+void print_table(const LinkMetrics& m, int nr, int num_antennas, std::ostream& out) {
   out << std::fixed << std::setprecision(2);
   out << "stream   NV SINR [dB]   ZF SINR [dB]   MF SINR [dB]\n";
   for (Eigen::Index k = 0; k < m.sinr.nv.size(); ++k) {
@@ -42,9 +42,9 @@ void print_table(const LinkMetrics& m, int nr, std::ostream& out) {
       << std::scientific << "objective f            " << m.objective << std::fixed << "\n"
       << "sum rate NV [bit/s/Hz] " << m.sum_rate_nv_bps_hz << "\n"
       << "sum rate ZF [bit/s/Hz] " << m.sum_rate_zf_bps_hz << "\n";
-  if (nr < m.sinr.nv.size()) {
-    out << "note: " << nr << " UAVs < " << m.sinr.nv.size()
-        << " BS antennas: the columns cannot be orthogonal (ICN 0) and ZF is undefined (-inf)\n";
+  if (nr < num_antennas) {
+    out << "note: " << nr << " UAVs < " << num_antennas
+        << " BS antennas: one stream per UAV, with linear processing at the BS (docs/model.md)\n";
   }
 }
 }  // namespace
@@ -59,6 +59,7 @@ int run_eval_app(const EvalOptions& options, std::ostream& out, std::ostream& er
     config.require_known(experiment::experiment_config_keys());
     if (config.has_section("experiment")) experiment::load_experiment_settings(config);
     const PlacementSettings settings = load_placement_settings(config);
+    require_los_channel(settings.channel, config, "losmimo-eval");
     const Eigen::Matrix3Xd q_m = read_positions_csv(options.positions_path);
     const ChannelModel model(settings.scenario);
     for (Eigen::Index n = 0; n < q_m.cols(); ++n) {
@@ -73,7 +74,7 @@ int run_eval_app(const EvalOptions& options, std::ostream& out, std::ostream& er
     if (options.csv) {
       print_csv(m, out);
     } else {
-      print_table(m, static_cast<int>(q_m.cols()), out);
+      print_table(m, static_cast<int>(q_m.cols()), model.num_antennas(), out);
     }
     return kExitOk;
   } catch (const common::InputError& e) {

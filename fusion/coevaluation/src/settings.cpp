@@ -9,6 +9,7 @@
 #include "losmimo/common/ini_config.h"
 #include "losmimo/common/input_error.h"
 #include "losmimo/fusion/closed_loop_settings.h"
+#include "losmimo/placement/settings.h"
 
 namespace losmimo::coevaluation {
 
@@ -150,6 +151,9 @@ CoevaluationSettings load_coevaluation_settings(const experiment::ExperimentSett
   const common::KeyTable<CoevaluationSettings>& keys = coevaluation_keys();
   CoevaluationSettings c;
   keys.load(cfg, c);
+  if (settings.sweep(kSweepBeaconNoise) || settings.sweep(kSweepBeaconOutage)) {
+    placement::require_los_channel(settings.placement.channel, cfg, "co-evaluation");
+  }
   keys.check(cfg, "", [&] {
     // The shared closed-loop settings by the closed loop's own rules.
     common::with_field_prefix("closed_loop", [&] { fusion::validate(c.closed_loop); });

@@ -45,6 +45,7 @@ MissionConfig load_mission_config(const common::IniConfig& ini,
   MissionConfig c;
   c.ini = ini;
   c.placement = placement::load_placement_settings(ini);
+  placement::require_los_channel(c.placement.channel, ini, "the closed-loop mission");
   c.closed_loop = fusion::load_closed_loop_config(ini, c.placement);
   mission_keys().load(ini, c);
   return c;

@@ -31,6 +31,19 @@ std::vector<PointTask> point_tasks(const ExperimentSettings& s, const Experiment
   return tasks;
 }
 
+// An extension's extras (in its extra_metrics order) at their columns among all enabled sweeps'
+// extra metrics (NaN where it has none): two extensions may name different columns.
+std::vector<double> place_extras(const std::vector<double>& extras, const ExperimentExtension* extension,
+                                 const std::vector<std::string>& names) {
+  std::vector<double> placed(names.size(), std::nan(""));
+  if (!extension) return placed;
+  for (std::size_t i = 0; i < extras.size() && i < extension->extra_metrics.size(); ++i) {
+    const auto it = std::find(names.begin(), names.end(), extension->extra_metrics[i]);
+    if (it != names.end()) placed[static_cast<std::size_t>(it - names.begin())] = extras[i];
+  }
+  return placed;
+}
+
 }  // namespace
 
 int num_sweep_points(const ExperimentSettings& s) {
@@ -55,7 +68,7 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
                                 std::to_string(slice.shard_count) + " is not in 0..N-1");
   }
   const std::vector<PointTask> points = point_tasks(s, extensions);
-  const std::size_t num_extension_extra = extension_metric_names(s, extensions).size();
+  const std::vector<std::string> extension_names = extension_metric_names(s, extensions);
   const int trials = s.trials;
   const int num_threads = std::max(1, threads);
 
@@ -87,7 +100,7 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
         slots[job] = task.extension ? task.extension->run(s, task.point, job % trials)
                                     : run_trial(s, task.sweep->name, task.point, job % trials);
         for (TrialRecord& r : slots[job]) {
-          r.extra.resize(num_extension_extra, std::nan(""));
+          r.extra = place_extras(r.extra, task.extension, extension_names);
           if (s.milestone_columns) {
             const auto iteration = [](int i) { return i >= 0 ? static_cast<double>(i) : std::nan(""); };
             r.extra.push_back(iteration(r.icn050_iteration));

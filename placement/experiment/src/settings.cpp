@@ -244,9 +244,9 @@ ExperimentSettings load_experiment_settings(const common::IniConfig& cfg, const 
       return a == Algorithm::kUra || a == Algorithm::kUraLattice || a == Algorithm::kUraLatticeExact;
     });
     const placement::Scenario& sc = s.placement.scenario;
-    if (builtin && ura != s.algorithms.end() && sc.num_uavs != sc.num_bs_antennas()) {
+    if (builtin && ura != s.algorithms.end() && sc.num_uavs > sc.num_bs_antennas()) {
       // Named as listed: the first of the URA baselines in `algorithms`.
-      throw common::FieldError("algorithms", to_string(*ura) + " needs scenario.num_uavs = bs_rows * bs_cols (" +
+      throw common::FieldError("algorithms", to_string(*ura) + " needs scenario.num_uavs <= bs_rows * bs_cols (" +
                                                  std::to_string(sc.num_bs_antennas()) + "), got " +
                                                  std::to_string(sc.num_uavs));
     }

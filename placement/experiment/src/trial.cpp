@@ -54,17 +54,25 @@ placement::RunOptions run_options_of(const placement::PlacementSettings& p, Algo
   return run;
 }
 
-placement::RunResult run_algorithm(const placement::PlacementSettings& p, Algorithm a, const Eigen::Matrix3Xd& start, std::uint64_t seed,
-                        placement::RunOptions run) {
+}  // namespace
+
+placement::RunResult run_algorithm(const ExperimentSettings& s, const placement::PlacementSettings& p, Algorithm a,
+                                   int trial, const Eigen::Matrix3Xd& start, std::uint64_t seed,
+                                   placement::RunOptions run) {
   run = run_options_of(p, a, run);
   const placement::ChannelModel model(p.scenario);
   placement::Swarm swarm(model, start, p.errors, seed);
+  if (p.channel.active()) {
+    swarm.set_channel_conditions(placement::ChannelConditions(p.channel, swarm.num_uavs(), model.num_antennas(),
+                                                              trial_scatter_seed(s, trial),
+                                                              common::derive_seed(seed, {5})));
+  }
+  run.noise_variance = p.scenario.noise_variance();
   std::unique_ptr<placement::Planner> planner = make_planner(p, a);
   StayPlanner stay;
   if (!planner) run.max_iterations = 0;
   return placement::run_placement(planner ? *planner : stay, swarm, run);
 }
-}  // namespace
 
 std::uint64_t trial_start_seed(const ExperimentSettings& s, int trial) {
   return common::derive_seed(s.seed, {0, static_cast<std::uint64_t>(trial)});
@@ -79,8 +87,22 @@ std::uint64_t trial_seed(const ExperimentSettings& s, const std::string& sweep, 
   return common::derive_seed(s.seed, {1, common::fnv1a64(sweep), static_cast<std::uint64_t>(point), static_cast<std::uint64_t>(trial)});
 }
 
+std::uint64_t trial_scatter_seed(const ExperimentSettings& s, int trial) {
+  return common::derive_seed(s.seed, {4, static_cast<std::uint64_t>(trial)});
+}
+
+std::uint64_t trial_fading_eval_seed(const ExperimentSettings& s, int trial) {
+  return common::derive_seed(s.seed, {3, static_cast<std::uint64_t>(trial)});
+}
+
 TrialRecord make_record(const ExperimentSettings& s, const std::string& sweep, int point, int trial,
                         const std::string& algorithm, const placement::RunResult& r) {
+  return make_record(s, s.placement, sweep, point, trial, algorithm, r);
+}
+
+TrialRecord make_record(const ExperimentSettings& s, const placement::PlacementSettings& p, const std::string& sweep,
+                        int point, int trial, const std::string& algorithm, const placement::RunResult& r,
+                        placement::FadedLinkMetrics* metrics) {
   const SweepPoints* points = s.sweep(sweep);
   TrialRecord rec;
   rec.sweep = sweep;
@@ -92,8 +114,12 @@ TrialRecord make_record(const ExperimentSettings& s, const std::string& sweep, i
   rec.iterations = r.iterations;
   rec.converged = r.converged();
   rec.status = to_string(r.status);
-  const placement::Scenario& scenario = s.placement.scenario;
-  const placement::LinkMetrics m = placement::evaluate_link(placement::ChannelModel(scenario).matrix(r.final_m), scenario.noise_variance());
+  const placement::Scenario& scenario = p.scenario;
+  const placement::FadedLinkMetrics faded =
+      placement::evaluate_link_faded(placement::ChannelModel(scenario).matrix(r.final_m), scenario.noise_variance(),
+                                     p.channel, trial_fading_eval_seed(s, trial));
+  if (metrics) *metrics = faded;
+  const placement::LinkMetrics& m = faded.los;
   rec.final_icn = m.icn;
   rec.dist_to_icn050_m = r.icn050.reached ? r.icn050.placement_dist_m : kNaN;
   rec.dist_to_icn095_m = r.icn095.reached ? r.icn095.placement_dist_m : kNaN;
@@ -110,6 +136,17 @@ TrialRecord make_record(const ExperimentSettings& s, const std::string& sweep, i
   rec.mean_sinr_mf_db = mean_db(m.sinr.mf);
   rec.sum_rate_nv_bps_hz = m.sum_rate_nv_bps_hz;
   rec.sum_rate_zf_bps_hz = m.sum_rate_zf_bps_hz;
+  if (faded.draws > 0) {  // fading: the true channel's means over the draws
+    rec.final_icn = faded.icn;
+    rec.sinr_nv_db = faded.sinr_nv_db(0);
+    rec.sinr_zf_db = faded.sinr_zf_db(0);
+    rec.sinr_mf_db = faded.sinr_mf_db(0);
+    rec.mean_sinr_nv_db = faded.sinr_nv_db.mean();
+    rec.mean_sinr_zf_db = faded.sinr_zf_db.mean();
+    rec.mean_sinr_mf_db = faded.sinr_mf_db.mean();
+    rec.sum_rate_nv_bps_hz = faded.sum_rate_nv_bps_hz;
+    rec.sum_rate_zf_bps_hz = faded.sum_rate_zf_bps_hz;
+  }
   rec.start_m = r.start_m;
   rec.final_m = r.final_m;
   return rec;
@@ -131,7 +168,7 @@ std::vector<TrialRecord> run_trial(const ExperimentSettings& s, const std::strin
   run.full_icn_trace = false;  // only milestones and the final positions are recorded
   std::vector<TrialRecord> records;
   for (const Algorithm a : s.algorithms) {
-    records.push_back(make_record(s, sweep, point, trial, to_string(a), run_algorithm(p, a, start, seed, run)));
+    records.push_back(make_record(s, p, sweep, point, trial, to_string(a), run_algorithm(s, p, a, trial, start, seed, run)));
   }
   return records;
 }
@@ -142,7 +179,7 @@ placement::RunResult run_traced(const ExperimentSettings& s, Algorithm algorithm
   placement::RunOptions run = p.run;
   run.trace_sinr = true;
   run.record_path = record_path;
-  return run_algorithm(p, algorithm, trial_start_positions_m(s, trial),
+  return run_algorithm(s, p, algorithm, trial, trial_start_positions_m(s, trial),
                        common::derive_seed(s.seed, {2, static_cast<std::uint64_t>(trial)}), run);
 }
 
@@ -152,7 +189,7 @@ placement::RunResult run_path(const ExperimentSettings& s, Algorithm algorithm, 
   p.errors.sigma_act_m = sigma_act_m;
   placement::RunOptions run = p.run;
   run.record_path = true;
-  return run_algorithm(p, algorithm, trial_start_positions_m(s, trial),
+  return run_algorithm(s, p, algorithm, trial, trial_start_positions_m(s, trial),
                        common::derive_seed(s.seed, {3, static_cast<std::uint64_t>(trial)}), run);
 }
 

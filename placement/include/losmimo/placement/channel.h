@@ -9,8 +9,9 @@
 // the noise variance in the same units is 1 / SNR (Scenario::noise_variance).
 
 #include <Eigen/Core>
+#include <vector>
 
-#include "losmimo/placement/phasor.h"
+#include "losmimo/placement/kernels.h"
 #include "losmimo/placement/scenario.h"
 
 namespace losmimo::placement {
@@ -18,11 +19,16 @@ namespace losmimo::placement {
 class ChannelModel {
  public:
   explicit ChannelModel(const Scenario& scenario);
+  // Copies point their geometry at their own arrays.
+  ChannelModel(const ChannelModel& other);
+  ChannelModel& operator=(const ChannelModel& other);
 
   // The channel row (as a column vector, length Nt) of a UAV at q_m (metres).
   Eigen::VectorXcd row(const Eigen::Vector3d& q_m) const;
   // The same row into x (resized to Nt; no allocation when it already has that size).
   void row(const Eigen::Vector3d& q_m, Eigen::VectorXcd& x) const;
+  // The same row in the kernels' layout: re[k] + j im[k], k < geometry().ld (pads 0).
+  void row_planes(const Eigen::Vector3d& q_m, double* re, double* im) const;
   // The full Nr x Nt channel of UAVs at the columns of q_m (3 x Nr).
   Eigen::MatrixXcd matrix(const Eigen::Matrix3Xd& q_m) const;
 
@@ -37,13 +43,18 @@ class ChannelModel {
   double wavenumber_rad_per_m() const { return wavenumber_rad_per_m_; }
   double range_m() const { return range_m_; }
   GainModel gain_model() const { return gain_model_; }
+  // The array in the kernels' padded layout (kernels.h), and the kernels of this process.
+  const kernels::RowGeometry& geometry() const { return geometry_; }
+  const kernels::Kernels& kernels() const { return *kernels_; }
 
  private:
   Eigen::Matrix3Xd antennas_m_;
-  Eigen::ArrayXd ax_m_, ay_m_, az_m_;  // the antennas' coordinates, one array per axis
   double wavenumber_rad_per_m_;
   double range_m_;
   GainModel gain_model_;
+  std::vector<double> padded_x_m_, padded_y_m_, padded_z_m_, padded_valid_;
+  kernels::RowGeometry geometry_;
+  const kernels::Kernels* kernels_;
 };
 
 }  // namespace losmimo::placement

@@ -1,6 +1,12 @@
 #pragma once
 // One placement run: a planner iterates over the swarm (one pass over all UAVs per
 // iteration, as the paper's master does) until the ICN reaches the target or the cap.
+//
+// ICN here is over the smaller Gram matrix the swarm keeps (swarm_channel.h): the BS antennas'
+// when Nr >= Nt, the UAVs' when Nr < Nt. With channel conditions (channel_conditions.h) the
+// stop test reads the master's measured CSI, while the milestones (0.5, 0.95) use the LoS
+// channel at the true positions: the geometry of the placement, the same matrix as the stop
+// test's without conditions.
 
 #include <Eigen/Core>
 #include <memory>
@@ -63,7 +69,7 @@ DistanceKind distance_kind_from_string(const std::string& name);  // std::invali
 struct RunOptions {
   double target_icn = 0.95;
   int max_iterations = 1000;
-  bool trace_sinr = false;      // per-iteration SINR of stream 1 in the trace (an LLT each)
+  bool trace_sinr = false;      // per-iteration SINR of stream 1 of the true channel (an LLT each)
   double noise_variance = 0.1;  // normalised units (Scenario::noise_variance), for trace_sinr
   // false: an iteration whose ICN is proven (icn_below) below every threshold still pending
   // (0.5 and 0.95 until reached, target_icn) skips the eigen-solve and records icn = NaN in
@@ -89,7 +95,9 @@ void validate(const RunOptions& options);
 
 struct IterationRecord {
   int iteration = 0;  // 0 is the start
-  double icn = 0.0;
+  double icn = 0.0;      // of the master's Gram matrix (measured CSI): the stop test's
+  double icn_los = 0.0;  // of the LoS channel at the true positions: the milestones' (= icn
+                         // without channel conditions)
   double objective = 0.0;
   double placement_dist_m = 0.0;  // mean per UAV, cumulative
   double probe_dist_m = 0.0;      // mean per UAV, cumulative
@@ -147,7 +155,8 @@ RunResult run_placement(Planner& planner, Swarm& swarm, const RunOptions& option
 // with every row finite, a Gram entry (uav -1). status is kNumericalFault.
 std::optional<PlannerFault> check_finite(const Swarm& swarm);
 
-// ICN from the Gram matrix G = H^H H: sqrt(lambda_min / lambda_max); 0 when Nr < Nt.
+// ICN from a Gram matrix G = H^H H (or K = H H^H): sqrt(lambda_min / lambda_max); 0 when
+// num_rows < G.cols() (G = H^H H of a wide H is singular).
 // Cheaper than the SVD of H (Nt x Nt eigenproblem) and equal to it above ~1e-6.
 double icn_from_gram(const Eigen::MatrixXcd& G, int num_rows);
 

@@ -1,11 +1,12 @@
 #pragma once
 // The placement settings an INI config holds, with the paper's values as defaults: sections
 // [scenario] (Scenario), [errors] (ErrorModel), [placement] (RunOptions), [gd] (GdOptions),
-// [bf] (BfOptions) and [ura] (UraOptions), plus per-algorithm stop rules in [gd], [bf] and [ura]
-// (RunOverride). Every key, with its field, accepted values and meaning, is declared once in
-// the key table in settings.cpp (placement_keys(); common/key_table.h). Keys added after the
-// paper setup was fixed are written only when not at their default, so that the defaults' text
-// (paper.ini, every recorded rawlog's CONFIG) stays the same.
+// [bf] (BfOptions), [ura] (UraOptions) and [channel] (ChannelSettings: Rician fading, CSI
+// estimation noise), plus per-algorithm stop rules in [gd], [bf] and [ura] (RunOverride). Every
+// key, with its field, accepted values and meaning, is declared once in the key table in
+// settings.cpp (placement_keys(); common/key_table.h). Keys added after the paper setup was
+// fixed are written only when not at their default, so that the defaults' text (paper.ini,
+// every recorded rawlog's CONFIG) stays the same.
 
 #include <map>
 #include <set>
@@ -14,6 +15,7 @@
 #include "losmimo/common/ini_config.h"
 #include "losmimo/common/key_table.h"
 #include "losmimo/placement/bf.h"
+#include "losmimo/placement/channel_conditions.h"
 #include "losmimo/placement/gd.h"
 #include "losmimo/placement/ura.h"
 
@@ -37,6 +39,7 @@ struct PlacementSettings {
   RunOverride gd_run;
   RunOverride bf_run;
   RunOverride ura_run;
+  ChannelSettings channel;
 };
 
 // The key table: one entry per key (section, key, field, accepted values, meaning).
@@ -49,6 +52,10 @@ std::map<std::string, std::set<std::string>> placement_config_keys();
 // throws common::InputError naming the file, line, key and value. Unknown keys are not checked here:
 // call common::IniConfig::require_known with the keys of every reader of the file.
 PlacementSettings load_placement_settings(const common::IniConfig& config);
+
+// For tools that evaluate the LoS channel only (losmimo-eval, the closed loop's record/replay and
+// co-evaluation): [channel] conditions are refused, common::InputError naming key and value.
+void require_los_channel(const ChannelSettings& channel, const common::IniConfig& config, const std::string& tool);
 
 // The settings as INI text, in table order (what datasets/configs/paper.ini holds, sorted).
 std::string to_ini(const PlacementSettings& settings);

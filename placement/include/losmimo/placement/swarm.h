@@ -13,6 +13,11 @@
 // that stays for the whole run), from a generator of its own seeded from the swarm's seed.
 // Distances: the true straight-line lengths flown, and the commanded lengths |r|, placement
 // moves and BF probe motions kept apart.
+//
+// Channel conditions (channel_conditions.h, inactive unless set): with Rician fading or CSI
+// estimation noise, every row the swarm's channel caches is a measurement (the broadcast rows,
+// the master's Gram matrix), BF's probes measure through measure_row_into, and the true channel
+// (true_channel) is for evaluation only.
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -21,6 +26,7 @@
 #include <random>
 #include <string>
 
+#include "losmimo/placement/channel_conditions.h"
 #include "losmimo/placement/swarm_channel.h"
 
 namespace losmimo::placement {
@@ -84,9 +90,32 @@ class Swarm {
   // stays, the move returns zero and the first such move is kept in numerical_fault().
   Eigen::Vector3d move(int m, const Eigen::Vector3d& r_m, MotionKind kind, bool update_channel = true);
   const std::optional<SwarmFault>& numerical_fault() const { return fault_; }
-  // UAV m's channel row at its true position (what it measures now, noise-free).
+  // UAV m's LoS channel row at its true position (noise-free; the model's).
   Eigen::VectorXcd measure_row(int m) const { return channel_.model().row(q_m_.col(m)); }
-  void sync_channel(int m) { channel_.set_position(m, q_m_.col(m)); }
+  // Brings UAV m's cached row up to date: its LoS row, or with active conditions a measurement.
+  void sync_channel(int m);
+
+  // Rician fading and CSI noise; the swarm keeps a copy. Active conditions (sized Nr x Nt)
+  // re-measure every row at once: the master's first broadcast.
+  void set_channel_conditions(const ChannelConditions& conditions);
+  const ChannelConditions& channel_conditions() const { return conditions_; }
+  // Before iteration i (run_placement calls it): when a new coherence block begins, the scatter
+  // is redrawn and every UAV measures and broadcasts its row again. Nothing without fading.
+  void begin_iteration(int iteration);
+  // What UAV m measures at its true position now (a fresh draw of the estimation noise): its LoS
+  // row without conditions, the same bits as ChannelModel::row.
+  void measure_row_into(int m, Eigen::VectorXcd& x);
+  // The channel at the true positions without estimation noise: the LoS channel, faded by the
+  // current block's scatter when fading is on.
+  Eigen::MatrixXcd true_channel() const;
+  // ChannelConditions::noise_floor_objective (0 without conditions).
+  double noise_floor_objective() const { return conditions_.noise_floor_objective(); }
+  // Whether a stalled planner may escape at measured objective f: always without conditions,
+  // else only above twice the noise floor (below it a lower measured f is mostly noise, and an
+  // escape jump of up to half a lateral period would follow it).
+  bool escape_allowed(double objective) const {
+    return !conditions_.active() || objective > 2.0 * conditions_.noise_floor_objective();
+  }
 
   const Eigen::VectorXd& placement_distance_m() const { return placement_dist_m_; }
   const Eigen::VectorXd& probe_distance_m() const { return probe_dist_m_; }
@@ -120,6 +149,7 @@ class Swarm {
   Eigen::Matrix3Xd loc_bias_m_;  // LocError::kFixedPerUav: UAV m's fixed error (3 x Nr), else empty
   PositionEstimator estimator_;
   std::optional<SwarmFault> fault_;
+  ChannelConditions conditions_;
 };
 
 }  // namespace losmimo::placement

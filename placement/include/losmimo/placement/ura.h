@@ -22,7 +22,10 @@
 //   BS corner's distance from the array centre, phi_tol = kLatticeFresnelTolerance_rad: the
 //   Fresnel phase then differs by at most phi_tol from that at depth R. b is 11.4 m for 16 x 16
 //   at 1 km (ICN 0.967), 52 m for 8 x 8 (no clamp in the 50 m cube), 280 m for 4 x 4.
-// Needs num_uavs == bs_rows * bs_cols.
+// Needs num_uavs <= bs_rows * bs_cols. With fewer UAVs than antennas (a massive-MIMO BS) the
+// slots are the same Nt-slot grid (the spacing is set by the BS's elements per axis) and the
+// assignment picks which Nr slots to fill: rows at any two distinct slots are orthogonal (far
+// field, paraxial), so any Nr of them give ICN ~1 over the UAV streams (metrics.h).
 //
 // Open choices of the paper's baseline ("an optimal URA [Bohagen]; each UAV is directed to a
 // position in the URA that minimizes the total distance; ... the UAVs keep attempting to get to

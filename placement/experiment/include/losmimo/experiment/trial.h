@@ -5,10 +5,17 @@
 // Seeds: start_seed = derive_seed(seed, {0, trial}) (the same start at every sweep point);
 //        seed       = derive_seed(seed, {1, fnv1a(sweep name), point, trial}) drives the error
 //        draws: adding or reordering sweeps changes no other sweep's numbers.
+//        With [channel] conditions (placement/channel_conditions.h): the scatter of every run of
+//        trial t from derive_seed(seed, {4, t}) and the evaluation draws at the final positions
+//        from derive_seed(seed, {3, t}) (the same for every algorithm and sweep point), the
+//        estimation noise of a run from derive_seed(its error seed, {5}).
 // Distances are means per UAV in metres; dist_to_icn050_m / dist_to_icn095_m are placement
 // distance when the ICN first reached 0.5 / 0.95 (NaN if never); dist_total_m is everything
 // flown (placement + probe), probe_dist_m the BF probe flights alone. SINR columns are stream 1
-// (as the paper) and the mean of the per-stream dB values, at the final positions.
+// (as the paper) and the mean of the per-stream dB values, at the final positions; streams are
+// the BS antennas when Nr >= Nt, the UAVs when Nr < Nt (placement/metrics.h). With Rician fading
+// the final metrics are of the true channel, averaged over [channel] fading_eval_draws scatter
+// draws (ICN and sum rates linearly, SINR in dB).
 // icn050_iteration / icn095_iteration: the iteration at which the ICN first reached 0.5 / 0.95
 // (-1: never); they are columns of trials.csv and summary.csv only with
 // [experiment] milestone_columns (iterations_to_icn050, iterations_to_icn095).
@@ -18,6 +25,7 @@
 #include <vector>
 
 #include "losmimo/experiment/settings.h"
+#include "losmimo/placement/channel_conditions.h"
 #include "losmimo/placement/run.h"
 
 namespace losmimo::experiment {
@@ -57,10 +65,23 @@ struct TrialRecord {
 Eigen::Matrix3Xd trial_start_positions_m(const ExperimentSettings& settings, int trial);
 std::uint64_t trial_start_seed(const ExperimentSettings& settings, int trial);
 std::uint64_t trial_seed(const ExperimentSettings& settings, const std::string& sweep, int point, int trial);
+std::uint64_t trial_scatter_seed(const ExperimentSettings& settings, int trial);
+std::uint64_t trial_fading_eval_seed(const ExperimentSettings& settings, int trial);
+
+// Runs algorithm a from `start` under the placement settings p, errors drawn from `seed`, with
+// p.channel's conditions (trial `trial`'s scatter) when active.
+placement::RunResult run_algorithm(const ExperimentSettings& settings, const placement::PlacementSettings& p,
+                                   Algorithm a, int trial, const Eigen::Matrix3Xd& start, std::uint64_t seed,
+                                   placement::RunOptions run);
 
 // Fills a record's common fields from a finished run (metrics at the final positions).
 TrialRecord make_record(const ExperimentSettings& settings, const std::string& sweep, int point, int trial,
                         const std::string& algorithm, const placement::RunResult& run);
+// The same for a run under placement settings p (another scenario or channel than settings');
+// `metrics` (optional) receives the final positions' metrics.
+TrialRecord make_record(const ExperimentSettings& settings, const placement::PlacementSettings& p,
+                        const std::string& sweep, int point, int trial, const std::string& algorithm,
+                        const placement::RunResult& run, placement::FadedLinkMetrics* metrics = nullptr);
 
 // The built-in sweeps (sigma_loc_m, sigma_act_m): the settings' algorithms on trial `trial`
 // at sweep point `point`.

@@ -1,0 +1,177 @@
+// The kernels of kernels.h written plainly: one complex number at a time, the C library's
+// cos, sin and log, every sum in index order. The definition the vector builds are tested
+// against (tests/placement/kernels_test.cpp), not a fast path.
+#include <cmath>
+#include <complex>
+#include <vector>
+
+#include "losmimo/placement/kernels.h"
+
+namespace losmimo::placement::kernels {
+
+namespace {
+using cd = std::complex<double>;
+
+cd at(const double* re, const double* im, int i) { return {re[i], im[i]}; }
+cd gram(const GramPlanes& G, int l, int k) {
+  return at(G.re, G.im, l + k * G.ld);
+}
+
+void unit_phasors(const double* phase_rad, double* c, double* s, int n) {
+  for (int k = 0; k < n; ++k) {
+    c[k] = std::cos(phase_rad[k]);
+    s[k] = std::sin(phase_rad[k]);
+  }
+}
+
+// x_k = a_k exp(-j kappa d_k); pads 0.
+void row(const RowGeometry& g, const double q[3], double* xr, double* xi) {
+  for (int k = 0; k < g.ld; ++k) {
+    xr[k] = xi[k] = 0.0;
+    if (k >= g.nt) continue;
+    const double d = std::sqrt((q[0] - g.ax_m[k]) * (q[0] - g.ax_m[k]) + (q[1] - g.ay_m[k]) * (q[1] - g.ay_m[k]) +
+                               (q[2] - g.az_m[k]) * (q[2] - g.az_m[k]));
+    const double amplitude = g.exact_gain ? g.range_m / d : 1.0;
+    const cd x = amplitude * std::polar(1.0, -g.wavenumber_rad_per_m * d);
+    xr[k] = x.real();
+    xi[k] = x.imag();
+  }
+}
+
+void rows_lanes(const RowGeometry& g, const double* px, const double* py, const double* pz, double* Xr, double* Xi) {
+  std::vector<double> xr(g.ld), xi(g.ld);
+  for (int p = 0; p < kLanes; ++p) {
+    const double q[3] = {px[p], py[p], pz[p]};
+    row(g, q, xr.data(), xi.data());
+    for (int k = 0; k < g.ld; ++k) {
+      Xr[k * kLanes + p] = xr[k];
+      Xi[k * kLanes + p] = xi[k];
+    }
+  }
+}
+
+// A_lk = G_lk - conj(o_l) o_k
+cd leave_one_out(const GramPlanes& G, const double* or_, const double* oi, int l, int k) {
+  return gram(G, l, k) - std::conj(at(or_, oi, l)) * at(or_, oi, k);
+}
+
+double leave_one_out_energy(const GramPlanes& G, const double* or_, const double* oi) {
+  double sum = 0.0;
+  for (int l = 0; l < G.n; ++l) {
+    for (int k = 0; k < G.n; ++k) {
+      if (l != k) sum += std::norm(leave_one_out(G, or_, oi, l, k));
+    }
+  }
+  return sum;
+}
+
+// f = F_A + 2 sum_{l != k} Re(conj(x_l) conj(A_lk) x_k) + S^2 - Q
+double objective_of_row(const GramPlanes& G, const double* or_, const double* oi, double F_A, const double* xr,
+                        const double* xi) {
+  double cross = 0.0, S = 0.0, Q = 0.0;
+  for (int l = 0; l < G.n; ++l) {
+    const double p = std::norm(at(xr, xi, l));
+    S += p;
+    Q += p * p;
+    for (int k = 0; k < G.n; ++k) {
+      if (l == k) continue;
+      cross += (std::conj(at(xr, xi, l)) * std::conj(leave_one_out(G, or_, oi, l, k)) * at(xr, xi, k)).real();
+    }
+  }
+  return F_A + 2.0 * cross + S * S - Q;
+}
+
+void objectives_lanes(const GramPlanes& G, const double* or_, const double* oi, const double* Xr, const double* Xi,
+                      double* f) {
+  const double F_A = leave_one_out_energy(G, or_, oi);
+  std::vector<double> xr(G.ld), xi(G.ld);
+  for (int p = 0; p < kLanes; ++p) {
+    for (int k = 0; k < G.ld; ++k) {
+      xr[k] = Xr[k * kLanes + p];
+      xi[k] = Xi[k * kLanes + p];
+    }
+    f[p] = objective_of_row(G, or_, oi, F_A, xr.data(), xi.data());
+  }
+}
+
+double objective_at(const RowGeometry& g, const GramPlanes& G, const double* or_, const double* oi, double F_A,
+                    const double q[3]) {
+  std::vector<double> xr(g.ld), xi(g.ld);
+  row(g, q, xr.data(), xi.data());
+  return objective_of_row(G, or_, oi, F_A, xr.data(), xi.data());
+}
+
+// grad f = 4 sum_l Re(conj(s_l) Q_l) u_l, Q_l = conj(x_l) sum_{k != l} conj(B_lk) x_k,
+// B = A + conj(x) x^T, s_l = -j kappa (- 1 / d_l for the exact gain), u_l = (q - p_l) / d_l.
+double gradient(const RowGeometry& g, const GramPlanes& G, const double* or_, const double* oi, double F_A,
+                const double q[3], double* grad) {
+  std::vector<double> xr(g.ld), xi(g.ld);
+  row(g, q, xr.data(), xi.data());
+  grad[0] = grad[1] = grad[2] = 0.0;
+  for (int l = 0; l < g.nt; ++l) {
+    const cd xl = at(xr.data(), xi.data(), l);
+    cd sum = 0.0;
+    for (int k = 0; k < g.nt; ++k) {
+      if (k == l) continue;
+      const cd B = leave_one_out(G, or_, oi, l, k) + std::conj(xl) * at(xr.data(), xi.data(), k);
+      sum += std::conj(B) * at(xr.data(), xi.data(), k);
+    }
+    const double u[3] = {q[0] - g.ax_m[l], q[1] - g.ay_m[l], q[2] - g.az_m[l]};
+    const double d = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    const cd s(g.exact_gain ? -1.0 / d : 0.0, -g.wavenumber_rad_per_m);
+    const double w = 4.0 * (std::conj(s) * std::conj(xl) * sum).real();
+    for (int i = 0; i < 3; ++i) grad[i] += w * u[i] / d;
+  }
+  return objective_of_row(G, or_, oi, F_A, xr.data(), xi.data());
+}
+
+void gram_update(double* G_re, double* G_im, int n, int ld, const double* xr, const double* xi, const double* or_,
+                 const double* oi) {
+  for (int k = 0; k < n; ++k) {
+    for (int l = 0; l < n; ++l) {
+      const cd delta = std::conj(at(xr, xi, l)) * at(xr, xi, k) - std::conj(at(or_, oi, l)) * at(or_, oi, k);
+      G_re[l + k * ld] += delta.real();
+      G_im[l + k * ld] += delta.imag();
+    }
+  }
+}
+
+void hermitian_matvec(const GramPlanes& G, const double* vr, const double* vi, double* yr, double* yi) {
+  for (int l = 0; l < G.ld; ++l) {
+    cd sum = 0.0;
+    for (int k = 0; k < G.n; ++k) sum += gram(G, l, k) * at(vr, vi, k);
+    yr[l] = sum.real();
+    yi[l] = sum.imag();
+  }
+}
+
+std::uint64_t counter_u64(std::uint64_t key, std::uint64_t j) {
+  std::uint64_t z = key + (j + 1) * 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+void normals(std::uint64_t key, std::uint64_t first_block, double* out, int blocks) {
+  const double ulp = std::ldexp(1.0, -52);
+  for (int b = 0; b < blocks; ++b) {
+    for (int i = 0; i < 8; ++i) {
+      const std::uint64_t pair = 8 * (first_block + b) + i;
+      const double u1 = 1.0 - static_cast<double>(counter_u64(key, 2 * pair) >> 12) * ulp;
+      const double u2 = static_cast<double>(counter_u64(key, 2 * pair + 1) >> 12) * ulp;
+      const double r = std::sqrt(-2.0 * std::log(u1));
+      out[16 * b + i] = r * std::cos(2.0 * M_PI * u2);
+      out[16 * b + 8 + i] = r * std::sin(2.0 * M_PI * u2);
+    }
+  }
+}
+}  // namespace
+
+const Kernels& reference_kernels() {
+  static const Kernels table = {Isa::kSse2,          &unit_phasors, &row,        &rows_lanes,
+                                &leave_one_out_energy, &objectives_lanes, &objective_of_row, &objective_at,
+                                &gradient,           &gram_update,  &hermitian_matvec, &normals};
+  return table;
+}
+
+}  // namespace losmimo::placement::kernels
