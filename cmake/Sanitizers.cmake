@@ -31,6 +31,12 @@ if(LOSMIMO_SANITIZE)
   add_compile_options(-fsanitize=${LOSMIMO_SANITIZE} -fno-omit-frame-pointer
                       -fno-sanitize-recover=all)
   add_link_options(-fsanitize=${LOSMIMO_SANITIZE})
+  # Debian's libceres.a is built without ASan, so its copies of Eigen templates (e.g.
+  # JacobiSVD<MatrixXcd>) allocate with plain malloc, while under ASan Eigen would switch our
+  # copies to its hand-made aligned allocator; the linker keeps one copy of each, and a buffer
+  # allocated by one and freed by the other is a heap overflow. ASan's malloc is 16-byte aligned
+  # on x86-64 as glibc's is, so every copy uses malloc.
+  add_compile_definitions(EIGEN_MALLOC_ALREADY_ALIGNED=1)
   # GCC 12 + ASan: false -Wmaybe-uninitialized in <regex> / <functional> (std::function in
   # regex_automaton.h); keep it a warning so -Werror does not stop the sanitizer build.
   if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")

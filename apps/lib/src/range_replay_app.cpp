@@ -17,6 +17,7 @@
 #include "losmimo/rawlog/mrpt_app_config.h"
 #include "losmimo/rawlog/range_replay.h"
 #include "messages.h"
+#include "replay_outputs.h"
 
 namespace losmimo::apps {
 
@@ -132,45 +133,26 @@ int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std
       throw common::InputError(std::string(e.what()) + "; reading stopped: " + log.read_status.describe());
     }
     filter_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  } catch (const common::InputError& e) {
-    print_error(err, kApp, options.rawlog_path + ": " + e.what());
-    return kExitBadInput;
-  } catch (const std::runtime_error& e) {
-    print_error(err, kApp, e.what());
-    return kExitBadInput;
-  } catch (const std::exception& e) {
-    print_error(err, kApp, options.rawlog_path + ": replay failed: " + e.what());
-    return kExitFailure;
+  } catch (...) {
+    return report_replay_error(err, kApp, options.rawlog_path);
   }
   const bool complete = log.read_status.stop == RawlogStop::kEnd;
   const int code = complete ? kExitOk : kExitFailure;
   auto rows = range_summary_rows(log, result);
   rows.push_back({"complete", complete ? "true" : "false"});
-  try {
-    if (!options.out_dir.empty()) {
-      common::StagedDir staged =
-          common::StagedDir::create(options.out_dir, options.replace, common::StaleStaging::kDiscard);
-      write_range_track_csv(result, (staged.path() / "track.csv").string());
-      write_range_readings_csv(log, (staged.path() / "ranges.csv").string());
-      for (const std::string& w : write_range_plot(result, beacons, staged.path().string())) {
-        err << kApp << ": " << w << "\n";
-      }
-      std::ostringstream summary;
-      summary << "key,value\n";
-      for (const auto& [k, v] : rows) summary << k << ",\"" << v << "\"\n";
-      common::write_file_atomically((staged.path() / "summary.csv").string(), summary.str());
-      common::Manifest m;
-      m.kind = "replay";
-      m.run_keys = {{"app", kApp}, {"complete", complete ? "true" : "false"}, {"exit_code", std::to_string(code)}};
-      staged.publish(m);
-    }
-  } catch (const common::OutputExistsError& e) {
-    print_output_exists(err, kApp, e, "--out");
-    return kExitBadInput;
-  } catch (const std::exception& e) {
-    print_error(err, kApp, e.what());
-    return kExitFailure;
-  }
+  const int published = publish_replay_outputs(
+      options.out_dir, options.replace, complete, code,
+      [&](const std::filesystem::path& dir) {
+        write_range_track_csv(result, (dir / "track.csv").string());
+        write_range_readings_csv(log, (dir / "ranges.csv").string());
+        for (const std::string& w : write_range_plot(result, beacons, dir.string())) err << kApp << ": " << w << "\n";
+        std::ostringstream summary;
+        summary << "key,value\n";
+        for (const auto& [k, v] : rows) summary << k << ",\"" << v << "\"\n";
+        common::write_file_atomically((dir / "summary.csv").string(), summary.str());
+      },
+      err, kApp);
+  if (published != kExitOk) return published;
   for (const auto& [k, v] : rows) out << k << " = " << v << "\n";
   // Process-dependent: stdout only.
   out << "filter_wall_s = " << common::format_g(filter_wall_s, 4) << "\n";

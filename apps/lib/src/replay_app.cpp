@@ -11,6 +11,7 @@
 #include "losmimo/localization/filter.h"
 #include "losmimo/rawlog/replay.h"
 #include "messages.h"
+#include "replay_outputs.h"
 
 namespace losmimo::apps {
 
@@ -82,39 +83,18 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
       if (read_completely(log)) throw;
       throw common::InputError(std::string(e.what()) + "; " + log.stop_description());
     }
-  } catch (const common::InputError& e) {
-    print_error(err, kApp, options.rawlog_path + ": " + e.what());
-    return kExitBadInput;
-  } catch (const std::runtime_error& e) {  // cannot open the file
-    print_error(err, kApp, e.what());
-    return kExitBadInput;
-  } catch (const std::exception& e) {
-    print_error(err, kApp, options.rawlog_path + ": replay failed: " + e.what());
-    return kExitFailure;
+  } catch (...) {
+    return report_replay_error(err, kApp, options.rawlog_path);
   }
   const bool complete = read_completely(log);
   // summary.csv and stdout say `complete` as the exit code means it (a log whose END_OF_LOG
   // verified but whose gzip trailer is missing, or with bytes after its end, is not complete).
   log.complete = complete && log.ours;
   const int code = !complete ? kExitFailure : log.run_faulted() ? kExitFault : kExitOk;
-  try {
-    if (!options.out_dir.empty()) {
-      common::StagedDir staged =
-          common::StagedDir::create(options.out_dir, options.replace, common::StaleStaging::kDiscard);
-      write_replay_csv(log, result, staged.path().string());
-      common::test_pause_point("replay.outputs_written");
-      common::Manifest m;
-      m.kind = "replay";
-      m.run_keys = {{"app", kApp}, {"complete", complete ? "true" : "false"}, {"exit_code", std::to_string(code)}};
-      staged.publish(m);
-    }
-  } catch (const common::OutputExistsError& e) {
-    print_output_exists(err, kApp, e, "--out");
-    return kExitBadInput;
-  } catch (const std::exception& e) {
-    print_error(err, kApp, e.what());
-    return kExitFailure;
-  }
+  const int published = publish_replay_outputs(
+      options.out_dir, options.replace, complete, code,
+      [&](const std::filesystem::path& dir) { write_replay_csv(log, result, dir.string()); }, err, kApp);
+  if (published != kExitOk) return published;
   for (const auto& [k, v] : rawlog::replay_summary_rows(log, result, false)) out << k << " = " << v << "\n";
   if (!complete) {
     print_error(err, kApp, options.rawlog_path + ": " + log.stop_description());

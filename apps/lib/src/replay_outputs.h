@@ -1,0 +1,60 @@
+#pragma once
+// What both replays (mission logs and range-only logs) do alike: report an error while reading
+// the log, and write their outputs into --out as one staged folder (it appears whole or not at
+// all, with a manifest saying whether the log was read completely and the exit code).
+#include <filesystem>
+#include <functional>
+#include <ostream>
+#include <stdexcept>
+#include <string>
+
+#include "losmimo/apps/exit_codes.h"
+#include "losmimo/common/input_error.h"
+#include "losmimo/common/staged_output.h"
+#include "losmimo/common/test_hook.h"
+#include "messages.h"
+
+namespace losmimo::apps {
+
+// Called inside a catch (...) around reading and replaying `rawlog_path`: bad input and a file
+// that cannot be opened exit 2, anything else is a failed replay (exit 1).
+inline int report_replay_error(std::ostream& err, const std::string& app, const std::string& rawlog_path) {
+  try {
+    throw;
+  } catch (const common::InputError& e) {
+    print_error(err, app, rawlog_path + ": " + e.what());
+    return kExitBadInput;
+  } catch (const std::runtime_error& e) {  // cannot open the file
+    print_error(err, app, e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    print_error(err, app, rawlog_path + ": replay failed: " + e.what());
+    return kExitFailure;
+  }
+}
+
+// Writes the outputs with `write` (given the staging folder) and publishes them as `out_dir`;
+// nothing when out_dir is empty. Returns kExitOk, or the exit code after printing why not.
+inline int publish_replay_outputs(const std::string& out_dir, bool replace, bool complete, int exit_code,
+                                  const std::function<void(const std::filesystem::path&)>& write,
+                                  std::ostream& err, const std::string& app) {
+  if (out_dir.empty()) return kExitOk;
+  try {
+    common::StagedDir staged = common::StagedDir::create(out_dir, replace, common::StaleStaging::kDiscard);
+    write(staged.path());
+    common::test_pause_point("replay.outputs_written");
+    common::Manifest m;
+    m.kind = "replay";
+    m.run_keys = {{"app", app}, {"complete", complete ? "true" : "false"}, {"exit_code", std::to_string(exit_code)}};
+    staged.publish(m);
+    return kExitOk;
+  } catch (const common::OutputExistsError& e) {
+    print_output_exists(err, app, e, "--out");
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    print_error(err, app, e.what());
+    return kExitFailure;
+  }
+}
+
+}  // namespace losmimo::apps
