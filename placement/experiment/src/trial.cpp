@@ -190,7 +190,7 @@ placement::RunResult run_path(const ExperimentSettings& s, Algorithm algorithm, 
   placement::RunOptions run = p.run;
   run.record_path = true;
   return run_algorithm(s, p, algorithm, trial, trial_start_positions_m(s, trial),
-                       common::derive_seed(s.seed, {3, static_cast<std::uint64_t>(trial)}), run);
+                       common::derive_seed(s.seed, {6, static_cast<std::uint64_t>(trial)}), run);
 }
 
 }  // namespace losmimo::experiment

@@ -9,6 +9,8 @@
 //        trial t from derive_seed(seed, {4, t}) and the evaluation draws at the final positions
 //        from derive_seed(seed, {3, t}) (the same for every algorithm and sweep point), the
 //        estimation noise of a run from derive_seed(its error seed, {5}).
+//        The Fig 1 traced runs draw from derive_seed(seed, {2, t}), the path figure's runs from
+//        derive_seed(seed, {6, t}). Each first tag belongs to one purpose only.
 // Distances are means per UAV in metres; dist_to_icn050_m / dist_to_icn095_m are placement
 // distance when the ICN first reached 0.5 / 0.95 (NaN if never); dist_total_m is everything
 // flown (placement + probe), probe_dist_m the BF probe flights alone. SINR columns are stream 1
@@ -93,7 +95,7 @@ std::vector<TrialRecord> run_trial(const ExperimentSettings& settings, const std
 placement::RunResult run_traced(const ExperimentSettings& settings, Algorithm algorithm, int trial,
                                 bool record_path = false);
 // The same start under actuation error sigma_act_m alone, positions recorded (the path figure);
-// seed derive_seed(seed, {3, trial}).
+// seed derive_seed(seed, {6, trial}).
 placement::RunResult run_path(const ExperimentSettings& settings, Algorithm algorithm, int trial, double sigma_act_m);
 
 }  // namespace losmimo::experiment
