@@ -1,6 +1,7 @@
-// The format version in the CONFIG header (format.h): version-1 logs (the shipped missions, kept
-// as recorded for this) still read, new logs are version 2 with the standard-type streams, and
-// a newer version is refused with a message that names it.
+// The format version in the CONFIG header (format.h): version-1 logs (the shipped missions and
+// tests/rawlog/data/format_v1, kept as recorded for this) still read and replay byte for byte as
+// before, new logs are version 2 with the standard-type streams and replay the same, and a newer
+// version is refused with a message that names it.
 #include <gtest/gtest.h>
 
 #include <sstream>
@@ -14,6 +15,7 @@
 #include "losmimo/rawlog/format.h"
 #include "losmimo/rawlog/log.h"
 #include "losmimo/rawlog/recorder.h"
+#include "losmimo/rawlog/replay.h"
 #include "rawlog_test_util.h"
 
 namespace losmimo::rawlog {
@@ -74,6 +76,40 @@ TEST(RawlogFormatVersion, ShippedMissions_AreVersion1AndReadWhole) {
     EXPECT_TRUE(log.skipped.empty()) << mission;
     EXPECT_EQ(used(log, "ODOMETRY") + used(log, "BS_RANGES"), 0) << mission;
     EXPECT_GT(used(log, "BEACON64"), 0) << mission;
+  }
+}
+
+// tests/rawlog/data/format_v1: config.ini recorded by losmimo-record at format version 1
+// (commit af96c97), and golden/<estimator>/ that version's losmimo-replay --out outputs.
+const std::string kV1Sample = "tests/rawlog/data/format_v1";
+
+// The replay's CSV files of `log` with `estimator`, written into `dir`.
+void replay_into(const MissionLog& log, const std::string& estimator, const std::string& dir) {
+  ReplayOptions options;
+  options.estimator = localization::filter_kind_from_string(estimator);
+  write_replay_csv(log, replay_mission(log, options), dir);
+}
+
+TEST(RawlogFormatVersion, Version1Sample_ReplaysByteForByteAsVersion1Did) {
+  const MissionLog v1 = load_log(source_path(kV1Sample + "/mission.rawlog"));
+  ASSERT_EQ(v1.format_version, 1);
+  ASSERT_TRUE(v1.complete) << v1.stop_description();
+  // AND: the same mission recorded today (version 2) replays to the same bytes too.
+  const std::string v2_path = temp_path("format_v1_rerecorded.rawlog");
+  record_mission(load_mission_config(common::IniConfig::from_file(source_path(kV1Sample + "/config.ini"))),
+                 {v2_path, 6, {}});
+  const MissionLog v2 = load_log(v2_path);
+  ASSERT_EQ(v2.format_version, kRawlogFormatVersion);
+  for (const std::string& estimator : {std::string("ekf"), std::string("pf")}) {
+    const std::string out1 = temp_path("format_v1_" + estimator), out2 = temp_path("format_v2_" + estimator);
+    replay_into(v1, estimator, out1);
+    replay_into(v2, estimator, out2);
+    for (const char* file : {"estimates.csv", "epochs.csv", "summary.csv"}) {
+      const std::string golden = test_support::read_file(source_path(kV1Sample + "/golden/" + estimator + "/" + file));
+      ASSERT_FALSE(golden.empty()) << file;
+      EXPECT_EQ(test_support::read_file(out1 + "/" + file), golden) << estimator << " " << file << " (version 1)";
+      EXPECT_EQ(test_support::read_file(out2 + "/" + file), golden) << estimator << " " << file << " (version 2)";
+    }
   }
 }
 
