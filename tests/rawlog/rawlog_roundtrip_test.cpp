@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <regex>
@@ -269,6 +270,27 @@ TEST(RawlogRecordApp, TheExperimentsIni_IsAMissionSource) {
                                   {"placement.max_iterations=1"}, path}, out, err), 0) << err.str();
   std::remove(path.c_str());
   std::remove(beacons_ini_path(path).c_str());
+}
+
+TEST(RawlogRecordApp, WritesTheBeaconsIniBesideTheLog_AndRefusesOneInTheWay) {
+  // GIVEN / WHEN: a recording into NAME.rawlog.
+  const std::string path = temp_path("with_beacons.rawlog");
+  const std::string ini = temp_path("with_beacons.beacons.ini");
+  std::ostringstream out, err;
+  ASSERT_EQ(apps::run_record_app({"", {"placement.max_iterations=1"}, path, true}, out, err), 0) << err.str();
+  // THEN: NAME.beacons.ini, the mission's, is beside it.
+  EXPECT_EQ(beacons_ini_path(path), ini);
+  MissionConfig defaults = load_mission_config(common::IniConfig());
+  EXPECT_EQ(test_support::read_file(ini), mission_beacons_ini_text(defaults));
+  EXPECT_NE(out.str().find(ini), std::string::npos) << out.str();
+  // AND: a beacons.ini in the way is refused up front (exit 2, no staged log left behind).
+  std::remove(path.c_str());
+  std::ostringstream out2, err2;
+  EXPECT_EQ(apps::run_record_app({"", {"placement.max_iterations=1"}, path, false}, out2, err2), 2);
+  EXPECT_NE(err2.str().find(ini + " holds a file"), std::string::npos) << err2.str();
+  EXPECT_FALSE(std::filesystem::exists(path + ".partial"));
+  EXPECT_FALSE(std::filesystem::exists(path));
+  std::remove(ini.c_str());
 }
 
 TEST(RawlogRecordApp, ExitCodes) {

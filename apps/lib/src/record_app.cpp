@@ -1,5 +1,6 @@
 #include "losmimo/apps/record_app.h"
 
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <ostream>
@@ -39,7 +40,12 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
     if (ini.has_section("experiment")) experiment::load_experiment_settings(ini.subset(experiment_sections), extensions);
     if (options.out_path.empty()) throw common::InputError("--out: an output file is required");
     staged.emplace(common::StagedFile::create(options.out_path, options.replace));
-    staged_beacons.emplace(common::StagedFile::create(beacons_ini_path(options.out_path), options.replace));
+    try {
+      staged_beacons.emplace(common::StagedFile::create(beacons_ini_path(options.out_path), options.replace));
+    } catch (...) {
+      std::filesystem::remove(staged->path());  // just created, empty: no litter from a refused run
+      throw;
+    }
   } catch (...) {
     return report_current_exception(err, kApp);
   }
