@@ -43,7 +43,8 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
     try {
       staged_beacons.emplace(common::StagedFile::create(beacons_ini_path(options.out_path), options.replace));
     } catch (...) {
-      std::filesystem::remove(staged->path());  // just created, empty: no litter from a refused run
+      std::error_code ignored;  // the staged log was just created, empty: no litter from a refused run
+      std::filesystem::remove(staged->path(), ignored);
       throw;
     }
   } catch (...) {

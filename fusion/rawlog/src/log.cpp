@@ -101,7 +101,7 @@ class Builder {
     const auto split = text.find("\n[rawlog]\n");
     if (body == std::string::npos || split == std::string::npos)
       throw common::InputError("rawlog CONFIG: no [rawlog] section");
-    log_.format_version = format_version(text.substr(magic.size(), body == std::string::npos ? 0 : body - magic.size()));
+    log_.format_version = format_version(text.substr(magic.size(), body - magic.size()));
     log_.config_text = text.substr(body + 1, split - body);
     log_.config = load_mission_config(common::IniConfig::from_string(log_.config_text, "rawlog CONFIG"));
     const common::IniConfig raw = common::IniConfig::from_string(text.substr(split + 1), "rawlog CONFIG [rawlog]");

@@ -22,7 +22,7 @@
 // stock pf-localization localizes on (one UAV's two streams, extracted, docs/rawlog-format.md):
 //   UAVnn_ODOMETRY     CObservationOdometry  cumulative 2-D odometry: (sum of the measured
 //                                            displacements' x, y since epoch 0, phi = 0), every
-//                                            epoch, written just before the UAV's other records
+//                                            epoch, right after DR (before TRUTH)
 //   UAVnn_BS_RANGES    CObservationBeaconRanges  the beacon's range to the BS (kBsBeaconId at the
 //                                            array centre, as in the log's beacons.ini), float,
 //                                            stdError = sigma_range_m, maxSensorDistance
