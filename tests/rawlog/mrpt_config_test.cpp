@@ -13,6 +13,7 @@
 #include "losmimo/rawlog/beacon_list.h"
 #include "losmimo/rawlog/mrpt_app_config.h"
 #include "losmimo/rawlog/range_replay.h"
+#include "losmimo/rawlog/recorder.h"
 #include "rawlog_test_util.h"
 
 namespace losmimo::rawlog {
@@ -160,6 +161,34 @@ TEST(BeaconsIni, WrittenMap_ReadsBackAsTheSameBeaconsThroughTheStockKeys) {
     EXPECT_EQ(*c.beacons.find(id), p) << id;
   }
   EXPECT_THROW(beacons_ini_text(localization::BeaconMap()), common::InputError);
+  EXPECT_THROW(beacons_ini_text(map, 0.0), common::InputError);
+}
+
+TEST(BeaconsIni, RecordedMissionsIni_GivesTheBsBeaconRangeSigmaAndStartCubePrior) {
+  // GIVEN: the beacons.ini losmimo-record writes for the small mission (start cube 50 m at
+  // 1 km, range sigma 0.1 m).
+  const MissionConfig config = test_support::small_mission("ekf", false);
+  const std::string path = test_support::temp_path("mission.beacons.ini");
+  std::ofstream(path) << mission_beacons_ini_text(config);
+  // WHEN: read through the stock keys.
+  const MrptAppConfig c = read_mrpt_app_config(path);
+  // THEN: the BS as beacon 0 at the origin, the beacon's range sigma, the cube's x-y box with
+  // the heading 0, and the map's count key for the stock apps (not used by losmimo).
+  ASSERT_EQ(c.beacons.size(), 1u);
+  ASSERT_TRUE(c.beacons.find(0));
+  EXPECT_EQ(*c.beacons.find(0), Eigen::Vector3d::Zero());
+  ASSERT_TRUE(c.range_sigma_m.has_value());
+  EXPECT_EQ(*c.range_sigma_m, config.closed_loop.simulator.sigma_range_m);
+  ASSERT_TRUE(c.prior.has_value());
+  const auto* box = std::get_if<localization::PoseBox>(&*c.prior);
+  ASSERT_NE(box, nullptr);
+  EXPECT_EQ(box->min(0), 975.0);
+  EXPECT_EQ(box->max(0), 1025.0);
+  EXPECT_EQ(box->min(1), -25.0);
+  EXPECT_EQ(box->max(1), 25.0);
+  EXPECT_EQ(box->min(3), 0.0);
+  EXPECT_EQ(box->max(3), 0.0);
+  EXPECT_NE(std::find(c.unused_keys.begin(), c.unused_keys.end(), "[MetricMap] landmarksMap_count"), c.unused_keys.end());
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "losmimo/apps/replay_app.h"
+#include "losmimo/rawlog/recorder.h"
 #include "rawlog_test_util.h"
 
 namespace losmimo::rawlog {
@@ -19,13 +20,30 @@ apps::ReplayAppOptions options(const std::string& log, const std::string& beacon
 }
 
 TEST(RangeReplayInput, LogWithoutBeaconRanges_ExitsTwoListingWhatItHolds) {
-  // GIVEN: a losmimo mission log (its BS ranging is not CObservationBeaconRanges).
+  // GIVEN: a version-1 losmimo mission log (its BS ranging is not CObservationBeaconRanges).
   const apps::ReplayAppOptions o =
       options(test_support::source_path("datasets/missions/nominal/mission.rawlog"), "0 0 0 0\n");
   std::ostringstream out, err;
   EXPECT_EQ(apps::run_replay_app(o, out, err), 2);
   EXPECT_NE(err.str().find("no CObservationBeaconRanges in the log"), std::string::npos) << err.str();
   EXPECT_NE(err.str().find("CObservationComment"), std::string::npos) << err.str();
+}
+
+TEST(RangeReplayInput, SeveralUavsRanges_ExitsTwoNamingTheCommandThatKeepsOne) {
+  // GIVEN: a losmimo log (4 UAVs) with its written beacons.ini.
+  const std::string log = test_support::temp_path("several_uavs.rawlog");
+  const MissionConfig config = test_support::small_mission("ekf", false);
+  record_mission(config, {log, 6, {}});
+  const std::string ini = test_support::temp_path("several_uavs.beacons.ini");
+  test_support::write_file_bytes(ini, mission_beacons_ini_text(config));
+  apps::ReplayAppOptions o;
+  o.rawlog_path = log;
+  o.mrpt_config = ini;
+  // THEN: refused, not one track over four vehicles' ranges.
+  std::ostringstream out, err;
+  EXPECT_EQ(apps::run_replay_app(o, out, err), 2);
+  EXPECT_NE(err.str().find("CObservationBeaconRanges of 4 UAVs"), std::string::npos) << err.str();
+  EXPECT_NE(err.str().find("--keep-label UAV00_ODOMETRY,UAV00_BS_RANGES"), std::string::npos) << err.str();
 }
 
 TEST(RangeReplayInput, BadOptions_ExitTwoNamingTheOptionAndValue) {

@@ -6,13 +6,16 @@
 #include <array>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <regex>
 #include <sstream>
 
+#include <mrpt/obs/CObservationBeaconRanges.h>
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/obs/CObservationComment.h>
+#include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CObservationRawDAQ.h>
 #include <mrpt/obs/CObservationRobotPose.h>
 
@@ -65,6 +68,8 @@ TEST(RawlogRoundTrip, EveryObservationReadsBackEqualToWhatTheLoopProduced) {
   ASSERT_EQ(static_cast<std::int64_t>(objects.size()), rec.objects);
   std::size_t next_epoch = 0, next_move = 0;
   std::map<std::string, int> seen;
+  std::map<int, Eigen::Vector2d> odometry_sum;  // per UAV
+  for (int m = 0; m < config.placement.scenario.num_uavs; ++m) odometry_sum[m] = Eigen::Vector2d::Zero();
   int checked = 0;
   for (const RawlogObject& o : objects) {
     const auto* obs = dynamic_cast<const mrpt::obs::CObservation*>(o.object.get());
@@ -148,6 +153,25 @@ TEST(RawlogRoundTrip, EveryObservationReadsBackEqualToWhatTheLoopProduced) {
         if (*label->stream == UavStream::kRefined) ++next_epoch;  // the last record of the epoch
         break;
       }
+      case UavStream::kOdometry: {
+        // The cumulative reading: the sum of the UAV's displacements so far, in x and y.
+        const auto* odo = dynamic_cast<const mrpt::obs::CObservationOdometry*>(obs);
+        ASSERT_TRUE(odo);
+        if (e.measured_displacement_m) odometry_sum[e.uav] += e.measured_displacement_m->head<2>();
+        EXPECT_NEAR(odo->odometry.x(), odometry_sum[e.uav].x(), 1e-12);
+        EXPECT_NEAR(odo->odometry.y(), odometry_sum[e.uav].y(), 1e-12);
+        EXPECT_EQ(odo->odometry.phi(), 0.0);
+        break;
+      }
+      case UavStream::kBsRanges: {
+        const auto* b = dynamic_cast<const mrpt::obs::CObservationBeaconRanges*>(obs);
+        ASSERT_TRUE(b && e.beacon && b->sensedData.size() == 1);
+        EXPECT_EQ(b->sensedData[0].beaconID, kBsBeaconId);
+        EXPECT_EQ(b->sensedData[0].sensedDistance, static_cast<float>(e.beacon->range_m));
+        EXPECT_EQ(b->stdError, static_cast<float>(config.closed_loop.simulator.sigma_range_m));
+        EXPECT_GT(b->maxSensorDistance, b->sensedData[0].sensedDistance);
+        break;
+      }
       case UavStream::kMove:
         break;
     }
@@ -159,6 +183,8 @@ TEST(RawlogRoundTrip, EveryObservationReadsBackEqualToWhatTheLoopProduced) {
   // UAV 1 had no beacon at epochs 3..6: 4 fewer beacons than epochs.
   EXPECT_EQ(seen["UAV01_BEACON"], rec.epochs - 4);
   EXPECT_EQ(seen["UAV00_BEACON"], rec.epochs);
+  EXPECT_EQ(seen["UAV01_BS_RANGES"], rec.epochs - 4);
+  EXPECT_EQ(seen["UAV01_ODOMETRY"], rec.epochs);
   for (const auto& [label, n] : seen) EXPECT_EQ(n, rec.label_counts.at(label)) << label;
 
   // AND: the interpreter accepts every mark and sees the whole log.
@@ -192,13 +218,13 @@ TEST(RawlogRoundTrip, StockRawlogEditInfo_CountsWhatWasWritten) {
   std::smatch m;
   ASSERT_TRUE(std::regex_search(text, m, std::regex("Overall number of objects\\s*:\\s*(\\d+)"))) << text;
   EXPECT_EQ(std::stoll(m[1]), rec.objects);
-  const std::regex row("\\s(UAV\\d+_[A-Z0-9]+)\\s*/\\s*(\\d+)\\s*/");
+  const std::regex row("\\s(UAV\\d+_[A-Z0-9_]+)\\s*/\\s*(\\d+)\\s*/");
   int labels = 0;
   for (auto it = std::sregex_iterator(text.begin(), text.end(), row); it != std::sregex_iterator(); ++it) {
     EXPECT_EQ(std::stoll((*it)[2]), rec.label_counts.at((*it)[1])) << (*it)[1];
     ++labels;
   }
-  EXPECT_EQ(labels, 4 * 8);  // 4 UAVs x 8 streams
+  EXPECT_EQ(labels, 4 * 10);  // 4 UAVs x 10 streams
 }
 
 TEST(RawlogMissionConfig, BadKeysAndValues_NameTheKey) {
@@ -243,6 +269,28 @@ TEST(RawlogRecordApp, TheExperimentsIni_IsAMissionSource) {
   EXPECT_EQ(apps::run_record_app({test_support::source_path("datasets/configs/paper.ini"),
                                   {"placement.max_iterations=1"}, path}, out, err), 0) << err.str();
   std::remove(path.c_str());
+  std::remove(beacons_ini_path(path).c_str());
+}
+
+TEST(RawlogRecordApp, WritesTheBeaconsIniBesideTheLog_AndRefusesOneInTheWay) {
+  // GIVEN / WHEN: a recording into NAME.rawlog.
+  const std::string path = temp_path("with_beacons.rawlog");
+  const std::string ini = temp_path("with_beacons.beacons.ini");
+  std::ostringstream out, err;
+  ASSERT_EQ(apps::run_record_app({"", {"placement.max_iterations=1"}, path, true}, out, err), 0) << err.str();
+  // THEN: NAME.beacons.ini, the mission's, is beside it.
+  EXPECT_EQ(beacons_ini_path(path), ini);
+  MissionConfig defaults = load_mission_config(common::IniConfig());
+  EXPECT_EQ(test_support::read_file(ini), mission_beacons_ini_text(defaults));
+  EXPECT_NE(out.str().find(ini), std::string::npos) << out.str();
+  // AND: a beacons.ini in the way is refused up front (exit 2, no staged log left behind).
+  std::remove(path.c_str());
+  std::ostringstream out2, err2;
+  EXPECT_EQ(apps::run_record_app({"", {"placement.max_iterations=1"}, path, false}, out2, err2), 2);
+  EXPECT_NE(err2.str().find(ini + " holds a file"), std::string::npos) << err2.str();
+  EXPECT_FALSE(std::filesystem::exists(path + ".partial"));
+  EXPECT_FALSE(std::filesystem::exists(path));
+  std::remove(ini.c_str());
 }
 
 TEST(RawlogRecordApp, ExitCodes) {

@@ -1,5 +1,7 @@
 #include "losmimo/apps/record_app.h"
 
+#include <filesystem>
+#include <fstream>
 #include <optional>
 #include <ostream>
 #include <set>
@@ -23,7 +25,7 @@ constexpr const char* kApp = "losmimo-record";
 
 int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostream& err) {
   MissionConfig config;
-  std::optional<common::StagedFile> staged;
+  std::optional<common::StagedFile> staged, staged_beacons;
   try {
     common::IniConfig ini = options.config_path.empty()
                                    ? common::IniConfig()
@@ -38,6 +40,13 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
     if (ini.has_section("experiment")) experiment::load_experiment_settings(ini.subset(experiment_sections), extensions);
     if (options.out_path.empty()) throw common::InputError("--out: an output file is required");
     staged.emplace(common::StagedFile::create(options.out_path, options.replace));
+    try {
+      staged_beacons.emplace(common::StagedFile::create(beacons_ini_path(options.out_path), options.replace));
+    } catch (...) {
+      std::error_code ignored;  // the staged log was just created, empty: no litter from a refused run
+      std::filesystem::remove(staged->path(), ignored);
+      throw;
+    }
   } catch (...) {
     return report_current_exception(err, kApp);
   }
@@ -47,10 +56,18 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
     ro.after_epoch_mark = [](int) { common::test_pause_point("record.epoch_mark"); };
     const RecordResult r = record_mission(config, ro);
     staged->publish();
+    // The beacon map of the BS_RANGES streams, for stock MRPT apps (docs/rawlog-format.md).
+    {
+      std::ofstream f(staged_beacons->path());
+      if (!(f << mission_beacons_ini_text(config)) || !f.flush())
+        throw std::runtime_error(staged_beacons->path() + ": cannot write");
+    }
+    staged_beacons->publish();
     out << "losmimo-record: " << options.out_path << ": " << r.objects << " objects ("
         << r.uncompressed_bytes << " bytes uncompressed), " << r.epochs << " epochs, "
         << r.run.run.iterations << " iterations, " << placement::to_string(r.run.run.status)
-        << ", final ICN " << (r.run.run.trace.empty() ? 0.0 : r.run.run.trace.back().icn) << "\n";
+        << ", final ICN " << (r.run.run.trace.empty() ? 0.0 : r.run.run.trace.back().icn) << "\n"
+        << "losmimo-record: beacon map for stock MRPT apps: " << staged_beacons->final_path() << "\n";
     if (r.run.run.faulted()) {  // the log is complete up to the fault (END_OF_LOG has the status)
       err << "losmimo-record: run ended by a fault: " << r.run.run.fault << "\n";
       return kExitFault;

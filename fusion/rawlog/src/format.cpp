@@ -12,8 +12,8 @@
 namespace losmimo::rawlog {
 
 namespace {
-constexpr const char* kStreamNames[] = {"TRUTH", "DR",     "BEACON",  "BEACON64",
-                                        "CSI",   "BELIEF", "REFINED", "MOVE"};
+constexpr const char* kStreamNames[] = {"TRUTH",   "DR",   "BEACON",   "BEACON64", "CSI",
+                                        "BELIEF",  "REFINED", "MOVE", "ODOMETRY", "BS_RANGES"};
 constexpr int kNumStreams = sizeof(kStreamNames) / sizeof(kStreamNames[0]);
 }  // namespace
 

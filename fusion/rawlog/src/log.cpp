@@ -11,6 +11,7 @@
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CActionRobotMovement3D.h>
+#include <mrpt/obs/CObservationBeaconRanges.h>
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/CObservationOdometry.h>
@@ -100,9 +101,13 @@ class Builder {
     const auto split = text.find("\n[rawlog]\n");
     if (body == std::string::npos || split == std::string::npos)
       throw common::InputError("rawlog CONFIG: no [rawlog] section");
+    log_.format_version = format_version(text.substr(magic.size(), body - magic.size()));
     log_.config_text = text.substr(body + 1, split - body);
     log_.config = load_mission_config(common::IniConfig::from_string(log_.config_text, "rawlog CONFIG"));
     const common::IniConfig raw = common::IniConfig::from_string(text.substr(split + 1), "rawlog CONFIG [rawlog]");
+    if (raw.get_integer("rawlog", "format_version", log_.format_version, 0, 1000000) != log_.format_version)
+      throw common::InputError("rawlog CONFIG: [rawlog] format_version differs from the header's " +
+                               std::to_string(log_.format_version));
     log_.num_uavs = static_cast<int>(raw.get_integer("rawlog", "num_uavs", 0, 1, kMaxUavs));
     if (log_.num_uavs != log_.config->placement.scenario.num_uavs)
       throw common::InputError("rawlog CONFIG: [rawlog] num_uavs differs from [scenario] num_uavs");
@@ -113,6 +118,29 @@ class Builder {
     if (static_cast<int>(log_.filter_seeds.size()) != log_.num_uavs)
       throw common::InputError("rawlog CONFIG: filter_seeds has " + std::to_string(log_.filter_seeds.size()) +
                                   " entries for " + std::to_string(log_.num_uavs) + " UAVs");
+  }
+
+  // The header line's version ("losmimo-rawlog <version>"): one this reader knows, or an error
+  // naming it.
+  static int format_version(const std::string& text) {
+    std::size_t used = 0;
+    int v = -1;
+    try {
+      v = std::stoi(text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != text.size())
+      throw common::InputError("rawlog CONFIG: format version '" + text + "' is not a number");
+    if (v > kRawlogFormatVersion)
+      throw common::InputError("rawlog CONFIG: format version " + std::to_string(v) +
+                               " is newer than this losmimo reads (" + std::to_string(kOldestRawlogFormatVersion) +
+                               " to " + std::to_string(kRawlogFormatVersion) + "): use a newer losmimo-replay");
+    if (v < kOldestRawlogFormatVersion)
+      throw common::InputError("rawlog CONFIG: format version " + std::to_string(v) + " is not a losmimo rawlog version (" +
+                               std::to_string(kOldestRawlogFormatVersion) + " to " +
+                               std::to_string(kRawlogFormatVersion) + ")");
+    return v;
   }
 
   void add_ours(const RawlogObject& o) {
@@ -289,6 +317,12 @@ class Builder {
       }
       case UavStream::kMove:
         return daq && daq->AIN_double.size() == 8;  // kept in the file; replay does not need it
+      // The standard-type copies of DR and BEACON64 (version 2), for stock MRPT apps: checked
+      // for their class, not used (the replay takes the double-precision records).
+      case UavStream::kOdometry:
+        return log_.format_version >= 2 && dynamic_cast<const mrpt::obs::CObservationOdometry*>(&obs) != nullptr;
+      case UavStream::kBsRanges:
+        return log_.format_version >= 2 && dynamic_cast<const mrpt::obs::CObservationBeaconRanges*>(&obs) != nullptr;
     }
     return false;
   }

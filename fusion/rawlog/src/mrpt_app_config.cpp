@@ -174,10 +174,13 @@ std::vector<Eigen::Vector3d> read_relative_ground_truth(const std::string& path)
   return rows;
 }
 
-std::string beacons_ini_text(const localization::BeaconMap& beacons) {
+std::string beacons_ini_text(const localization::BeaconMap& beacons, std::optional<double> range_sigma_m) {
   if (beacons.empty()) throw common::InputError("beacons.ini: no beacon to write (empty beacon map)");
+  if (range_sigma_m && !(*range_sigma_m > 0.0))
+    throw common::InputError("beacons.ini: beaconRangesStd = " + std::to_string(*range_sigma_m) + ": must be > 0");
   std::ostringstream s;
   s.precision(17);
+  s << "[MetricMap]\nlandmarksMap_count = 1\n\n";
   s << "[" << kCreation << "]\nnBeacons = " << beacons.size() << "\n";
   int q = 0;
   for (const auto& [id, p] : beacons.beacons()) {
@@ -188,11 +191,15 @@ std::string beacons_ini_text(const localization::BeaconMap& beacons) {
       << prefix << "Y = " << p.y() << "\n"
       << prefix << "Z = " << p.z() << "\n";
   }
+  // Ranges only: no landmarks from 2-D scans (the stock configs' setting).
+  s << "\n[MetricMap_landmarksMap_00_insertOpts]\ninsert_Landmarks_from_range_scans = 0\n";
+  if (range_sigma_m) s << "\n[" << kLikelihood << "]\nbeaconRangesStd = " << *range_sigma_m << "\n";
   return s.str();
 }
 
-void write_beacons_ini(const localization::BeaconMap& beacons, const std::string& path) {
-  const std::string text = beacons_ini_text(beacons);
+void write_beacons_ini(const localization::BeaconMap& beacons, const std::string& path,
+                       std::optional<double> range_sigma_m) {
+  const std::string text = beacons_ini_text(beacons, range_sigma_m);
   std::ofstream f(path);
   if (!(f << text)) throw std::runtime_error(path + ": cannot write");
 }

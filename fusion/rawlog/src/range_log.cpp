@@ -14,6 +14,8 @@
 #include <mrpt/poses/CPosePDF.h>
 #include <mrpt/system/datetime.h>
 
+#include "losmimo/rawlog/format.h"
+
 namespace losmimo::rawlog {
 
 namespace {
@@ -106,6 +108,7 @@ class Loader {
     const std::string name = o.GetRuntimeClass()->className;
     if (const auto* b = dynamic_cast<const mrpt::obs::CObservationBeaconRanges*>(&o)) {
       frame.scans.push_back(scan_of(*b));
+      if (const auto label = parse_uav_label(b->sensorLabel)) log_.beacon_uavs.insert(label->uav);
       ++log_.beacon_observations;
       log_.ranges += static_cast<std::int64_t>(b->sensedData.size());
       ++log_.used[name];

@@ -1,5 +1,7 @@
 #include "losmimo/rawlog/range_replay.h"
 
+#include "losmimo/rawlog/format.h"
+
 #include <Eigen/Cholesky>
 #include <cmath>
 #include <fstream>
@@ -96,6 +98,13 @@ std::string nothing_to_fuse(const RangeLog& log, const BeaconMap& beacons) {
            "; skipped: " + describe_counts(log.skipped) + ")";
   }
   if (beacons.empty()) return "no beacon map";
+  if (log.beacon_uavs.size() > 1) {
+    // One track per log: several vehicles' ranges would be fused as one's.
+    const int first = *log.beacon_uavs.begin();
+    return "the log holds the CObservationBeaconRanges of " + std::to_string(log.beacon_uavs.size()) +
+           " UAVs (UAVnn_ labels); keep one, e.g. rawlog-edit -i LOG -o ONE.rawlog --keep-label " +
+           uav_label(first, UavStream::kOdometry) + "," + uav_label(first, UavStream::kBsRanges);
+  }
   std::set<std::int32_t> ids;
   for (const RangeFrame& f : log.frames)
     for (const BeaconRangeScan& s : f.scans)

@@ -12,9 +12,13 @@
 #include <stdexcept>
 
 #include <mrpt/io/CMemoryStream.h>
+#include <mrpt/obs/CObservationBeaconRanges.h>
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/obs/CObservationComment.h>
+#include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/registerAllClasses.h>
+#include <mrpt/poses/CPoint3D.h>
+#include <mrpt/poses/CPose2D.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/poses/CPose3DPDFGaussian.h>
 #include <mrpt/serialization/CArchive.h>
@@ -34,8 +38,9 @@ struct Stop {
 
 // Serialized sizes of the fixed-size nested objects, measured from MRPT itself.
 struct Calibration {
-  std::vector<std::uint8_t> pose3d, pose3d_pdf;  // whole envelopes of default objects
-  std::size_t bearing_cov_bytes = 0;             // one TMeasurement::covariance
+  std::vector<std::uint8_t> pose3d, pose3d_pdf, pose2d, point3d;  // whole envelopes of default objects
+  std::size_t bearing_cov_bytes = 0;   // one TMeasurement::covariance
+  std::size_t odometry_velocity_bytes = 0;  // CObservationOdometry::velocityLocal
 };
 
 std::vector<std::uint8_t> serialize(const mrpt::serialization::CSerializable& o) {
@@ -59,6 +64,13 @@ const Calibration& calibration() {
     b.sensedData[0].landmarkID = 0;
     b.sensedData[0].covariance.setZero();
     k.bearing_cov_bytes = serialize(b).size() - n0 - (3 * sizeof(float) + sizeof(std::int32_t));
+    k.pose2d = serialize(mrpt::poses::CPose2D());
+    k.point3d = serialize(mrpt::poses::CPoint3D());
+    mrpt::obs::CObservationOdometry odo;
+    odo.hasVelocities = false;
+    const std::size_t without = serialize(odo).size();
+    odo.hasVelocities = true;
+    k.odometry_velocity_bytes = serialize(odo).size() - without;
     return k;
   }();
   return c;
@@ -249,6 +261,25 @@ struct RawlogReader::Impl {
         throw Stop{RawlogStop::kLimit, "sensedData length " + std::to_string(n) + " above max_object_bytes"};
       c.skip(n * per);
       c.string("sensorLabel");
+    } else if (cls == "CObservationBeaconRanges" && version == 3) {
+      c.skip(3 * 4);  // min/max distance, stdError
+      const std::size_t per = cal.point3d.size() + 4 + 4;  // sensorLocationOnRobot, range, ID
+      const std::uint32_t n = c.u32();
+      if (static_cast<std::uint64_t>(n) * per > options.max_object_bytes)
+        throw Stop{RawlogStop::kLimit, "sensedData length " + std::to_string(n) + " above max_object_bytes"};
+      for (std::uint32_t i = 0; i < n; ++i) {
+        c.nested(cal.point3d, "CPoint3D");
+        c.skip(4 + 4);
+      }
+      c.nested(cal.pose2d, "CPose2D");  // auxEstimatePose
+      c.string("sensorLabel");
+      c.skip(8);  // timestamp
+    } else if (cls == "CObservationOdometry" && version == 2) {
+      c.nested(cal.pose2d, "CPose2D");
+      c.string("sensorLabel");
+      c.skip(8);                     // timestamp
+      if (c.u8() != 0) c.skip(2 * 4);  // encoder ticks
+      if (c.u8() != 0) c.skip(cal.odometry_velocity_bytes);  // velocityLocal
     } else if (cls == "CObservationRobotPose" && version == 1) {
       c.nested(cal.pose3d_pdf, "CPose3DPDFGaussian");
       c.string("sensorLabel");

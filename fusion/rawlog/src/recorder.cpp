@@ -15,12 +15,15 @@
 
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/obs/CObservationBeaconRanges.h>
 #include <mrpt/obs/CObservationComment.h>
+#include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CObservationRawDAQ.h>
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include "losmimo/rawlog/format.h"
+#include "losmimo/rawlog/mrpt_app_config.h"
 #include "losmimo/common/input_error.h"
 #include "losmimo/placement/metrics.h"
 
@@ -115,6 +118,32 @@ mrpt::obs::CObservationRawDAQ daq_obs(const std::string& label, double t_s,
   return o;
 }
 
+// The dead reckoning as MRPT odometry: the cumulative reading (x, y; heading 0, the BS frame's
+// axes), so that stock apps' increments between readings are the measured displacements.
+mrpt::obs::CObservationOdometry odometry_obs(const std::string& label, double t_s, const Eigen::Vector2d& xy) {
+  mrpt::obs::CObservationOdometry o;
+  o.sensorLabel = label;
+  o.timestamp = mrpt::Clock::fromDouble(t_s);
+  o.odometry = mrpt::poses::CPose2D(xy.x(), xy.y(), 0.0);
+  return o;
+}
+
+// The beacon's range as one reading of the BS beacon (format.h), for stock range-only apps.
+mrpt::obs::CObservationBeaconRanges bs_ranges_obs(const std::string& label, double t_s, double range_m,
+                                                  double sigma_range_m) {
+  mrpt::obs::CObservationBeaconRanges o;
+  o.sensorLabel = label;
+  o.timestamp = mrpt::Clock::fromDouble(t_s);
+  o.stdError = static_cast<float>(sigma_range_m);
+  o.minSensorDistance = 0.0f;
+  o.maxSensorDistance = kBsRangesMaxDistance_m;
+  mrpt::obs::CObservationBeaconRanges::TMeasurement z;
+  z.beaconID = kBsBeaconId;
+  z.sensedDistance = static_cast<float>(range_m);
+  o.sensedData.push_back(z);
+  return o;
+}
+
 std::string flags(const std::vector<char>& v) { return std::string(v.begin(), v.end()); }
 
 class Recorder : public fusion::ClosedLoopObserver {
@@ -132,6 +161,7 @@ class Recorder : public fusion::ClosedLoopObserver {
     degraded_.assign(nr, '0');
     modes_.assign(nr, '-');
     since_beacon_.assign(nr, 0);
+    odometry_m_.assign(nr, Eigen::Vector2d::Zero());
     mrpt::obs::CObservationComment c;
     c.sensorLabel = kLabelConfig;
     c.timestamp = mrpt::Clock::fromDouble(kTimeOrigin_s);
@@ -159,7 +189,9 @@ class Recorder : public fusion::ClosedLoopObserver {
       const double s = n.dr_sigma_floor_m + n.dr_sigma_fraction * e.measured_displacement_m->norm();
       writer_.write(pose_obs(uav_label(m, UavStream::kDr), t, *e.measured_displacement_m,
                              s * s * Eigen::Matrix3d::Identity()));
+      odometry_m_[m] += e.measured_displacement_m->head<2>();
     }
+    writer_.write(odometry_obs(uav_label(m, UavStream::kOdometry), t, odometry_m_[m]));
     writer_.write(pose_obs(uav_label(m, UavStream::kTruth), t, e.true_position_m, Eigen::Matrix3d::Zero()));
     if (e.beacon) {
       mrpt::obs::CObservationBearingRange b;
@@ -180,6 +212,8 @@ class Recorder : public fusion::ClosedLoopObserver {
       writer_.write(b);
       writer_.write(daq_obs(uav_label(m, UavStream::kBeacon64), t,
                             {e.beacon->range_m, e.beacon->azimuth_rad, e.beacon->elevation_rad}));
+      writer_.write(bs_ranges_obs(uav_label(m, UavStream::kBsRanges), t, e.beacon->range_m,
+                                  config_.closed_loop.simulator.sigma_range_m));
     }
     const fusion::CsiMeasurement csi =
         e.csi ? *e.csi
@@ -269,6 +303,7 @@ class Recorder : public fusion::ClosedLoopObserver {
   std::mt19937_64 csi_rng_;
   std::vector<char> filter_degraded_, degraded_, modes_;
   std::vector<int> since_beacon_;
+  std::vector<Eigen::Vector2d> odometry_m_;  // per UAV: the ODOMETRY reading (sum of the DR x, y)
   int epochs_ = 0, marks_ = 0, current_epoch_ = 0;
   bool epoch_open_ = false;
 };
@@ -280,6 +315,35 @@ RecordResult record_mission(const MissionConfig& config, const RecordOptions& op
   const fusion::ClosedLoopRun run = fusion::run_closed_loop(config.placement, mission_start_positions_m(config),
                                             config.closed_loop, config.seed, &recorder);
   return recorder.finish(run);
+}
+
+localization::BeaconMap bs_ranges_beacon_map() {
+  localization::BeaconMap map;
+  map.add(kBsBeaconId, Eigen::Vector3d::Zero());
+  return map;
+}
+
+std::string mission_beacons_ini_text(const MissionConfig& config) {
+  // A noise-free beacon (sigma 0) still needs a positive likelihood width in the stock apps:
+  // 1 mm, the smallest range sigma the filters assume.
+  constexpr double kMinRangesStd_m = 1e-3;
+  std::ostringstream s;
+  s << beacons_ini_text(bs_ranges_beacon_map(), std::max(config.closed_loop.simulator.sigma_range_m, kMinRangesStd_m));
+  // The prior every UAV starts from: the start cube's x-y extent; heading 0, the odometry's
+  // axes being the BS frame's.
+  const placement::Scenario& sc = config.placement.scenario;
+  const double h = 0.5 * sc.cube_side_m;
+  s << "\n[LocalizationExperiment]\ninit_PDF_mode = 1\n"
+    << "init_PDF_min_x = " << exact(sc.cube_center_m.x() - h) << "\ninit_PDF_max_x = " << exact(sc.cube_center_m.x() + h)
+    << "\ninit_PDF_min_y = " << exact(sc.cube_center_m.y() - h) << "\ninit_PDF_max_y = " << exact(sc.cube_center_m.y() + h)
+    << "\ninit_PDF_min_yaw_deg = 0\ninit_PDF_max_yaw_deg = 0\n";
+  return s.str();
+}
+
+std::string beacons_ini_path(const std::string& log_path) {
+  const std::string ext = ".rawlog";
+  const bool has_ext = log_path.size() > ext.size() && log_path.compare(log_path.size() - ext.size(), ext.size(), ext) == 0;
+  return (has_ext ? log_path.substr(0, log_path.size() - ext.size()) : log_path) + ".beacons.ini";
 }
 
 }  // namespace losmimo::rawlog

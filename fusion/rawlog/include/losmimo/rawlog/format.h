@@ -18,6 +18,15 @@
 //   UAVnn_REFINED      CObservationRobotPose the refined belief placement used (refine only)
 //   UAVnn_MOVE         CObservationRawDAQ    AIN_double = {iteration, mode (0 GD, 1 BF,
 //                                            2 escape), commanded x y z, actual x y z}
+// Since version 2, the same dead reckoning and beacon range as the standard MRPT types that
+// stock pf-localization localizes on (one UAV's two streams, extracted, docs/rawlog-format.md):
+//   UAVnn_ODOMETRY     CObservationOdometry  cumulative 2-D odometry: (sum of the measured
+//                                            displacements' x, y since epoch 0, phi = 0), every
+//                                            epoch, right after DR (before TRUTH)
+//   UAVnn_BS_RANGES    CObservationBeaconRanges  the beacon's range to the BS (kBsBeaconId at the
+//                                            array centre, as in the log's beacons.ini), float,
+//                                            stdError = sigma_range_m, maxSensorDistance
+//                                            kBsRangesMaxDistance_m; epochs with a beacon only
 //   EPOCH_END          CObservationComment   integrity mark closing epoch k (key=value lines)
 //   END_OF_LOG         CObservationComment   final mark: counts of everything written, the
 //                                            run's status, and for a run ended by a fault
@@ -31,7 +40,11 @@
 
 namespace losmimo::rawlog {
 
-inline constexpr int kRawlogFormatVersion = 1;
+// Version 1: the streams above up to MOVE. Version 2 adds ODOMETRY and BS_RANGES. A reader
+// takes every version from kOldestRawlogFormatVersion to kRawlogFormatVersion, and refuses a
+// newer one, naming it.
+inline constexpr int kRawlogFormatVersion = 2;
+inline constexpr int kOldestRawlogFormatVersion = 1;
 inline constexpr const char* kRawlogMagic = "losmimo-rawlog";
 
 inline constexpr const char* kLabelConfig = "CONFIG";
@@ -39,7 +52,7 @@ inline constexpr const char* kLabelEpochEnd = "EPOCH_END";
 inline constexpr const char* kLabelEndOfLog = "END_OF_LOG";
 
 // The per-UAV streams.
-enum class UavStream { kTruth, kDr, kBeacon, kBeacon64, kCsi, kBelief, kRefined, kMove };
+enum class UavStream { kTruth, kDr, kBeacon, kBeacon64, kCsi, kBelief, kRefined, kMove, kOdometry, kBsRanges };
 std::string to_string(UavStream stream);  // "TRUTH", "DR", ...
 
 // "UAV07_BEACON" for (7, kBeacon).
@@ -52,6 +65,12 @@ struct UavLabel {
 };
 // Parses "UAV<digits>_<suffix>" (uav < 100000); nullopt for anything else.
 std::optional<UavLabel> parse_uav_label(const std::string& label);
+
+// BS_RANGES: the BS as one beacon at the array centre (the beacon's range is |q|,
+// localization/measurements.h), and a sensor limit far above the ranges of any scenario
+// (MRPT's default, 100 m, is below the paper's 1 km).
+inline constexpr int kBsBeaconId = 0;
+inline constexpr float kBsRangesMaxDistance_m = 1e6f;
 
 // MOVE record modes.
 inline constexpr double kMoveGd = 0.0;

@@ -50,6 +50,7 @@ struct LoggedUavEpoch {
 
 struct MissionLog {
   bool ours = false;                    // written by losmimo-record
+  int format_version = 0;               // ours: the CONFIG header's (format.h)
   std::optional<MissionConfig> config;  // from CONFIG (ours)
   std::string config_text;              // the INI as logged
   std::vector<std::uint64_t> filter_seeds;
@@ -73,7 +74,8 @@ struct MissionLog {
 // Ours: an epoch may hold fewer records than UAVs (silent UAVs, or the last epoch of a run a
 // fault stopped part-way through it), as long as the log so far has a record per UAV-epoch.
 // Reads the whole rawlog. Throws common::InputError (and nothing else) if the log is ours
-// but its CONFIG is not a valid mission config, or if no object at all could be read.
+// but its CONFIG is not a valid mission config or names a format version this reader does not
+// know (a newer one: the message names it), or if no object at all could be read.
 // Non-finite BEACON64 and CSI values are refused (skipped), as are records of the wrong size.
 MissionLog load_mission_log(RawlogReader& reader);
 

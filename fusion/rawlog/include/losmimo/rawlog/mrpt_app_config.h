@@ -42,13 +42,17 @@ struct MrptAppConfig {
 // value (a beacon's coordinate, a non-numeric nBeacons, ...), or for a file that does not exist.
 MrptAppConfig read_mrpt_app_config(const std::string& path);
 
-// `beacons` as the [MetricMap_landmarksMap_00_creationOpts] section stock ro-localization and
-// pf-localization read (nBeacons, beacon_NNN_ID / _X / _Y / _Z in ID order, positions in metres
-// with 17 significant digits, so read_mrpt_app_config gives back the same map). Throws
-// common::InputError for an empty map (the stock apps would localize against nothing).
-std::string beacons_ini_text(const localization::BeaconMap& beacons);
+// `beacons` as the beacon-map sections stock ro-localization and pf-localization read:
+// [MetricMap] landmarksMap_count = 1; [MetricMap_landmarksMap_00_creationOpts] nBeacons,
+// beacon_NNN_ID / _X / _Y / _Z in ID order, positions in metres with 17 significant digits (so
+// read_mrpt_app_config gives back the same map); [..._insertOpts]
+// insert_Landmarks_from_range_scans = 0; with a range sigma, [..._likelihoodOpts]
+// beaconRangesStd. Throws common::InputError for an empty map (the stock apps would localize
+// against nothing) or a sigma that is not > 0.
+std::string beacons_ini_text(const localization::BeaconMap& beacons, std::optional<double> range_sigma_m = std::nullopt);
 // Writes beacons_ini_text to `path` (std::runtime_error if it cannot be written).
-void write_beacons_ini(const localization::BeaconMap& beacons, const std::string& path);
+void write_beacons_ini(const localization::BeaconMap& beacons, const std::string& path,
+                       std::optional<double> range_sigma_m = std::nullopt);
 
 // ro-localization's groundTruthFile: rows "k x y phi" (column 0 ignored; x, y [m] and phi [rad]
 // relative to the start pose); row k belongs to the k-th (action, sensory frame) pair.

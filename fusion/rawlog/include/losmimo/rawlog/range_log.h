@@ -24,6 +24,7 @@
 
 #include <cstdint>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,7 @@ struct RangeLog {
   std::int64_t beacon_observations = 0;  // CObservationBeaconRanges read
   std::int64_t ranges = 0;               // readings in them
   std::int64_t trailing_actions = 0;
+  std::set<int> beacon_uavs;  // nn of the CObservationBeaconRanges labelled "UAVnn_..." (format.h)
   std::map<std::string, std::int64_t> used;     // class -> count
   std::map<std::string, std::int64_t> skipped;  // class -> count
   RawlogReadStatus read_status;

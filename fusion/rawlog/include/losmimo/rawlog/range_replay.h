@@ -24,7 +24,9 @@
 // e^T P_xy^-1 e (2 dof), and the same error for dead reckoning. Summary: RMSE over those frames,
 // mean NEES (2 for a consistent filter), dead reckoning's RMSE.
 // Errors (common::InputError, the reason a user can act on): no CObservationBeaconRanges in the
-// log, an empty map, no reading whose beacon ID is in the map, no range fused at all.
+// log, an empty map, ranges of several UAVs (labels "UAVnn_...", a losmimo log: the message
+// names the rawlog-edit command that keeps one), no reading whose beacon ID is in the map, no
+// range fused at all.
 
 #include <cstdint>
 #include <optional>

@@ -7,8 +7,9 @@
 //   - losmimo's own logs (object 0 is the CONFIG comment, format.h) are read in this process:
 //     before MRPT parses an object, a scanner walks its bytes with the known layout of the
 //     classes losmimo writes (CObservationComment, CObservationRawDAQ, CObservationBearingRange,
-//     CObservationRobotPose; nested CPose3D / CPose3DPDFGaussian are fixed-size and calibrated at
-//     start-up from MRPT itself), checks every length against the limits below, and buffers the
+//     CObservationRobotPose, CObservationOdometry, CObservationBeaconRanges; nested CPose3D /
+//     CPose3DPDFGaussian / CPose2D / CPoint3D are fixed-size and calibrated at start-up from
+//     MRPT itself), checks every length against the limits below, and buffers the
 //     whole object; MRPT then parses exactly those bytes from memory. Any other class in such a
 //     log stops the read (limit): losmimo never writes one.
 //   - other logs ("foreign") are parsed in a bounded child process (sandbox.h, the default

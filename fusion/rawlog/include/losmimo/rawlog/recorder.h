@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "losmimo/fusion/closed_loop.h"
+#include "losmimo/localization/range_model.h"
 #include "losmimo/rawlog/mission.h"
 
 namespace losmimo::rawlog {
@@ -41,5 +42,18 @@ struct RecordOptions {
 
 // Runs and records the mission. Throws std::runtime_error if the file cannot be written.
 RecordResult record_mission(const MissionConfig& config, const RecordOptions& options);
+
+// The beacon map of the BS_RANGES stream (format.h): the BS as beacon kBsBeaconId at the array
+// centre (0, 0, 0) of the BS frame.
+localization::BeaconMap bs_ranges_beacon_map();
+// The beacons.ini for stock MRPT apps that losmimo-record writes beside a log of `config`:
+// bs_ranges_beacon_map() with beaconRangesStd = the beacon's range sigma (1 mm at least), as
+// beacons_ini_text (mrpt_app_config.h) writes it, and pf-localization's prior box in
+// [LocalizationExperiment]: init_PDF_mode = 1, init_PDF_min/max_x/y = the start cube's x-y
+// extent, init_PDF_min/max_yaw_deg = 0 (the ODOMETRY readings' heading).
+// losmimo-replay --mrpt-config reads the same keys.
+std::string mission_beacons_ini_text(const MissionConfig& config);
+// Where: "<log path without a .rawlog extension>.beacons.ini" (run.rawlog -> run.beacons.ini).
+std::string beacons_ini_path(const std::string& log_path);
 
 }  // namespace losmimo::rawlog
