@@ -95,18 +95,28 @@ TEST(MrptAppConfig, BadValues_NameSectionKeyAndValue) {
   EXPECT_THROW(read_mrpt_app_config("/nonexistent/app.ini"), common::InputError);
 }
 
-TEST(RangeReplayGroundTruth, UwbDemo_AlignedAsRoLocalization_FilterBeatsDeadReckoning) {
-  SKIP_WITHOUT(kUwbIni);
-  SKIP_WITHOUT(kUwbLog);
-  // GIVEN: the UWB demo with its stock config (3 beacons, 0.17 m, start (2, 4, 0 deg)).
-  const MrptAppConfig c = read_mrpt_app_config(kUwbIni);
+RangeLog uwb_log() {
   RawlogReader reader = RawlogReader::open_file(kUwbLog);
-  const RangeLog log = load_range_log(reader);
+  return load_range_log(reader);
+}
+
+// What losmimo-replay --mrpt-config takes from the UWB config: prior, range sigma, ground truth.
+RangeReplayOptions uwb_options(const MrptAppConfig& c) {
   RangeReplayOptions o;
   o.prior = c.prior;
   o.config.filter.noise.sigma_range_m = *c.range_sigma_m;
   o.ground_truth = read_relative_ground_truth(c.ground_truth_file);
   o.ground_truth_origin = *c.start_pose;
+  return o;
+}
+
+TEST(RangeReplayGroundTruth, UwbDemo_AlignedAsRoLocalization_FilterBeatsDeadReckoning) {
+  SKIP_WITHOUT(kUwbIni);
+  SKIP_WITHOUT(kUwbLog);
+  // GIVEN: the UWB demo with its stock config (3 beacons, 0.17 m, start (2, 4, 0 deg)).
+  const MrptAppConfig c = read_mrpt_app_config(kUwbIni);
+  const RangeLog log = uwb_log();
+  RangeReplayOptions o = uwb_options(c);
   // WHEN
   const RangeReplayResult r = replay_ranges(log, c.beacons, o);
   // THEN: ro-localization's alignment: GT row k is the k-th (action, sensory frame) pair, i.e.
@@ -133,13 +143,8 @@ TEST(RangeReplayGroundTruth, UwbDemo_BatchSmootherBeatsTheFilter) {
   SKIP_WITHOUT(kUwbLog);
   // GIVEN: the UWB demo as above, with the batch smoother after the EKF.
   const MrptAppConfig c = read_mrpt_app_config(kUwbIni);
-  RawlogReader reader = RawlogReader::open_file(kUwbLog);
-  const RangeLog log = load_range_log(reader);
-  RangeReplayOptions o;
-  o.prior = c.prior;
-  o.config.filter.noise.sigma_range_m = *c.range_sigma_m;
-  o.ground_truth = read_relative_ground_truth(c.ground_truth_file);
-  o.ground_truth_origin = *c.start_pose;
+  const RangeLog log = uwb_log();
+  RangeReplayOptions o = uwb_options(c);
   o.refine = fusion::RangeSmootherConfig{};
   // WHEN
   const RangeReplayResult r = replay_ranges(log, c.beacons, o);

@@ -286,17 +286,23 @@ TEST(RangeReplayApp, RefineWithAnUnusableWindow_ExitsTwoNamingTheOption) {
   EXPECT_NE(err.str().find("--refine-window: needs --refine"), std::string::npos) << err.str();
 }
 
-TEST(RangeReplayApp, DemoRefined_TrackHasRefinedColumnsAndSummaryTheFigures) {
-  SKIP_WITHOUT_DEMO();
-  const std::string dir = test_support::temp_path("range_replay_refined_out");
+// The app on the demo with its beacon file, starting at the origin, writing into a fresh `dir`.
+apps::ReplayAppOptions demo_app_options(const std::string& dir) {
   std::filesystem::remove_all(dir);
   apps::ReplayAppOptions o;
   o.rawlog_path = kDemoLog;
   o.beacons_path = kDemoBeacons;
   o.initial_pose = "0,0,0";
-  o.refine = true;
   o.out_dir = dir;
   o.out_given = true;
+  return o;
+}
+
+TEST(RangeReplayApp, DemoRefined_TrackHasRefinedColumnsAndSummaryTheFigures) {
+  SKIP_WITHOUT_DEMO();
+  const std::string dir = test_support::temp_path("range_replay_refined_out");
+  apps::ReplayAppOptions o = demo_app_options(dir);
+  o.refine = true;
   std::ostringstream out, err;
   ASSERT_EQ(apps::run_replay_app(o, out, err), 0) << err.str();
   std::ifstream track(dir + "/track.csv");
@@ -315,13 +321,7 @@ TEST(RangeReplayApp, DemoRefined_TrackHasRefinedColumnsAndSummaryTheFigures) {
 TEST(RangeReplayApp, DemoWithBeacons_WritesTrackAndSummary) {
   SKIP_WITHOUT_DEMO();
   const std::string dir = test_support::temp_path("range_replay_out");
-  std::filesystem::remove_all(dir);
-  apps::ReplayAppOptions o;
-  o.rawlog_path = kDemoLog;
-  o.beacons_path = kDemoBeacons;
-  o.initial_pose = "0,0,0";
-  o.out_dir = dir;
-  o.out_given = true;
+  const apps::ReplayAppOptions o = demo_app_options(dir);
   std::ostringstream out, err;
   ASSERT_EQ(apps::run_replay_app(o, out, err), 0) << err.str();
   std::ifstream track(dir + "/track.csv");
