@@ -13,7 +13,8 @@ int main(int argc, char** argv) {
   CLI::App app{"Replay a rawlog through an estimator and evaluate the placement along it"};
   app.add_option("rawlog", options.rawlog_path, "input rawlog (gzip or plain)")->required();
   app.add_option("--estimator", options.estimator, "ekf or pf (default: as recorded)");
-  app.add_flag("--refine", options.refine, "Ceres sliding-window refinement (default: as recorded)");
+  app.add_flag("--refine", options.refine,
+               "Ceres sliding-window refinement (default: as recorded); range-only: a Ceres smoother after the filter");
   app.add_flag("--no-refine", options.no_refine, "no refinement");
   CLI::Option* out_option =
       app.add_option("--out", options.out_dir, "write estimates.csv, epochs.csv, summary.csv into this new folder");

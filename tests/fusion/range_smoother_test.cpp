@@ -214,6 +214,21 @@ TEST(RangeSmoother, SlidingWindow_OneProblemPerFrameAndNoWorseThanTheEkf) {
   EXPECT_EQ(r.track[0].mean, s.frames[0].filter_belief.mean);
 }
 
+TEST(RangeSmoother, SameInput_BitIdenticalTrack) {
+  const Synthetic s = simulate(5, 0.1);
+  for (const int window : {0, 6}) {
+    RangeSmootherConfig c;
+    c.window_frames = window;
+    const RangeSmootherResult a = smooth_range_track(filter_config(), four_beacons(), s.frames, c);
+    const RangeSmootherResult b = smooth_range_track(filter_config(), four_beacons(), s.frames, c);
+    ASSERT_EQ(a.track.size(), b.track.size());
+    for (std::size_t k = 0; k < a.track.size(); ++k) {
+      EXPECT_TRUE(a.track[k].mean == b.track[k].mean && a.track[k].cov == b.track[k].cov)
+          << "window " << window << ", frame " << k;
+    }
+  }
+}
+
 TEST(RangeSmoother, UnusableSettings_FieldErrorNamingTheField) {
   const auto field_of = [](const RangeSmootherConfig& c) {
     try {
