@@ -2,8 +2,10 @@
 
 #include <ceres/ceres.h>
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "losmimo/common/field_error.h"
@@ -12,6 +14,34 @@
 #include "losmimo/localization/range_screening.h"
 
 namespace losmimo::fusion {
+
+// Below this reciprocal condition number a block of the chain's elimination counts as singular.
+constexpr double kMinReciprocalCondition = 1e-14;
+
+std::optional<std::vector<Eigen::Matrix4d>> chain_marginal_covariances(const std::vector<Eigen::Matrix4d>& diagonal,
+                                                                       const std::vector<Eigen::Matrix4d>& upper) {
+  const std::size_t n = diagonal.size();
+  if (n == 0 || upper.size() + 1 != n) throw std::invalid_argument("chain_marginal_covariances: block counts differ");
+  // Forward: S_i and S_i^-1.
+  std::vector<Eigen::Matrix4d> S_inv(n);
+  Eigen::Matrix4d S = diagonal[0];
+  for (std::size_t i = 0;; ++i) {
+    const Eigen::LLT<Eigen::Matrix4d> llt(S);
+    if (llt.info() != Eigen::Success || !(llt.rcond() >= kMinReciprocalCondition)) return std::nullopt;
+    S_inv[i] = llt.solve(Eigen::Matrix4d::Identity());
+    if (i + 1 == n) break;
+    S = diagonal[i + 1] - upper[i].transpose() * S_inv[i] * upper[i];
+  }
+  // Backward: C_i = S_i^-1 + G_i C_{i+1} G_i^T, G_i = S_i^-1 B_i.
+  std::vector<Eigen::Matrix4d> C(n);
+  C[n - 1] = S_inv[n - 1];
+  for (std::size_t i = n - 1; i-- > 0;) {
+    const Eigen::Matrix4d G = S_inv[i] * upper[i];
+    C[i] = S_inv[i] + G * C[i + 1] * G.transpose();
+  }
+  for (Eigen::Matrix4d& c : C) c = (0.5 * (c + c.transpose())).eval();
+  return C;
+}
 
 namespace {
 
@@ -54,12 +84,40 @@ ScreenedTrack screen_track(const localization::PoseFilterConfig& config, const l
   return t;
 }
 
+// The chain's information at the solution, H = J^T J (J whitened, with Ceres' loss corrections:
+// what ceres::Covariance would use), as diagonal and upper off-diagonal blocks, then its marginals.
+std::optional<std::vector<Eigen::Matrix4d>> marginals_at_solution(ceres::Problem& problem, std::vector<Pose>& x) {
+  const std::size_t n = x.size();
+  ceres::Problem::EvaluateOptions eval;
+  for (Pose& p : x) eval.parameter_blocks.push_back(p.data());
+  eval.apply_loss_function = true;
+  eval.num_threads = 1;
+  ceres::CRSMatrix J;
+  if (!problem.Evaluate(eval, nullptr, nullptr, nullptr, &J)) return std::nullopt;
+  std::vector<Eigen::Matrix4d> diagonal(n, Eigen::Matrix4d::Zero());
+  std::vector<Eigen::Matrix4d> upper(n > 0 ? n - 1 : 0, Eigen::Matrix4d::Zero());
+  for (int row = 0; row < J.num_rows; ++row) {
+    for (int i = J.rows[row]; i < J.rows[row + 1]; ++i) {
+      for (int j = J.rows[row]; j < J.rows[row + 1]; ++j) {
+        const int ci = J.cols[i], cj = J.cols[j];
+        const double v = J.values[i] * J.values[j];
+        if (ci / 4 == cj / 4) {
+          diagonal[static_cast<std::size_t>(ci / 4)](ci % 4, cj % 4) += v;
+        } else if (cj / 4 == ci / 4 + 1) {
+          upper[static_cast<std::size_t>(ci / 4)](ci % 4, cj % 4) += v;
+        }
+      }
+    }
+  }
+  return chain_marginal_covariances(diagonal, upper);
+}
+
 // Solves frames a..b and writes the poses of frames report_from..b into out.track.
 void solve(const localization::PoseFilterConfig& config, const std::vector<SmootherFrame>& frames,
            const ScreenedTrack& screened, const RangeSmootherConfig& smoother, std::size_t a, std::size_t b,
            std::size_t report_from, RangeSmootherResult& out) {
   const std::size_t n = b - a + 1;
-  // One buffer: ceres::Covariance orders blocks by address (see refinement.cpp).
+  // The poses, seeded by the filter's track.
   std::vector<Pose> x(n);
   for (std::size_t i = 0; i < n; ++i) x[i] = frames[a + i].filter_belief.mean;
 
@@ -79,6 +137,9 @@ void solve(const localization::PoseFilterConfig& config, const std::vector<Smoot
 
   ceres::Solver::Options options;
   options.linear_solver_type = n <= kMaxDensePoses ? ceres::DENSE_QR : ceres::SPARSE_NORMAL_CHOLESKY;
+  // Eigen's simplicial Cholesky: reproduces its last bit (SuiteSparse, through a multithreaded BLAS,
+  // need not).
+  options.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
   options.max_num_iterations = smoother.max_iterations;
   options.logging_type = ceres::SILENT;
   options.minimizer_progress_to_stdout = false;
@@ -93,22 +154,15 @@ void solve(const localization::PoseFilterConfig& config, const std::vector<Smoot
     for (std::size_t i = 0; i < n; ++i) x[i] = frames[a + i].filter_belief.mean;
   }
 
-  std::vector<std::pair<const double*, const double*>> blocks;
-  for (std::size_t k = report_from; k <= b; ++k) blocks.emplace_back(x[k - a].data(), x[k - a].data());
-  ceres::Covariance::Options cov_options;
-  cov_options.algorithm_type = ceres::SPARSE_QR;
-  cov_options.num_threads = 1;
-  ceres::Covariance covariance(cov_options);
-  const bool have_covariance = usable && covariance.Compute(blocks, &problem);
+  std::optional<std::vector<Eigen::Matrix4d>> marginals;
+  if (usable) marginals = marginals_at_solution(problem, x);
   for (std::size_t k = report_from; k <= b; ++k) {
     localization::PoseBelief& belief = out.track[k];
     belief = frames[k].filter_belief;
     belief.mean = x[k - a];
     belief.mean(localization::kPoseYaw) = localization::wrap_angle_rad(belief.mean(localization::kPoseYaw));
-    Eigen::Matrix<double, 4, 4, Eigen::RowMajor> cov;
-    if (have_covariance && covariance.GetCovarianceBlock(x[k - a].data(), x[k - a].data(), cov.data()) &&
-        cov.allFinite()) {
-      belief.cov = 0.5 * (cov + cov.transpose());
+    if (marginals) {
+      belief.cov = (*marginals)[k - a];
     } else {
       ++out.covariance_fallbacks;
     }

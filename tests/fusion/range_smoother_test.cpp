@@ -9,6 +9,7 @@
 #include <random>
 
 #include "fusion/gradient_probe.h"
+#include "fusion/range_track_simulator.h"
 #include "losmimo/common/field_error.h"
 #include "losmimo/fusion/pose_cost_functors.h"
 #include "losmimo/fusion/range_smoother.h"
@@ -20,7 +21,12 @@ namespace losmimo::fusion {
 namespace {
 
 using namespace localization;
+using test_support::filter_config;
+using test_support::four_beacons;
+using test_support::kSteps;
 using test_support::probe;
+using test_support::simulate;
+using test_support::Synthetic;
 
 constexpr int kJacobianPoints = 50;
 
@@ -78,58 +84,6 @@ TEST(PoseCostFunctors, RangeResidual_IsTheRangeModelsPrediction) {
   const double* blocks[] = {x.data()};
   ASSERT_TRUE(cost->Evaluate(blocks, &r, nullptr));
   EXPECT_NEAR(r, (range_predict(x, s, b) - 6.0) / 0.1, 1e-12);
-}
-
-// A robot driving 1.5 laps of a 6.25 m circle among four beacons, the UWB demo's sensor offset.
-struct Synthetic {
-  std::vector<Eigen::Vector4d> truth;
-  std::vector<SmootherFrame> frames;  // with the EKF's beliefs
-};
-
-constexpr int kSteps = 240;
-const Eigen::Vector4d kTrueIncrement(0.25, 0.0, 0.0, 0.04);
-
-BeaconMap four_beacons() {
-  BeaconMap map;
-  map.add(1, {0.0, 0.0, 1.0});
-  map.add(2, {10.0, 0.0, 2.0});
-  map.add(3, {10.0, 16.0, 0.5});
-  map.add(4, {0.0, 16.0, 1.5});
-  return map;
-}
-
-PoseFilterConfig filter_config() {
-  PoseFilterConfig c;
-  c.use_observation_std = true;
-  return c;
-}
-
-Synthetic simulate(std::uint64_t seed, double outlier_fraction) {
-  RangeSimulatorConfig sc;
-  sc.sigma_range_m = 0.1;
-  sc.sensor_on_robot_m = Eigen::Vector3d(0.16, 0.0, 1.12);
-  sc.outlier_fraction = outlier_fraction;
-  sc.outlier_sigma_range_m = 2.0;
-  RangeSensorSimulator sim(sc, four_beacons(), seed);
-  Synthetic s;
-  Eigen::Vector4d x(5.0, 2.0, 0.0, 0.0);
-  PoseBelief start;
-  start.mean = x;
-  start.cov = Eigen::Vector4d(0.01, 0.01, 1e-6, 1e-3).asDiagonal();
-  auto ekf = make_pose_filter(FilterKind::kEkf, filter_config(), four_beacons(), initial_pose(PosePrior(start)), seed);
-  s.truth.push_back(x);
-  s.frames.push_back({{}, {}, ekf->belief()});
-  for (int k = 1; k < kSteps; ++k) {
-    x = compose(x, kTrueIncrement);
-    SmootherFrame f;
-    f.odometry = sim.measure_odometry(kTrueIncrement);
-    if (auto scan = sim.measure_ranges(x, k)) f.scans.push_back(*scan);
-    ekf->step(f.odometry, f.scans);
-    f.filter_belief = ekf->belief();
-    s.truth.push_back(x);
-    s.frames.push_back(f);
-  }
-  return s;
 }
 
 struct Score {
@@ -224,9 +178,48 @@ TEST(RangeSmoother, SameInput_BitIdenticalTrack) {
     ASSERT_EQ(a.track.size(), b.track.size());
     for (std::size_t k = 0; k < a.track.size(); ++k) {
       EXPECT_TRUE(a.track[k].mean == b.track[k].mean && a.track[k].cov == b.track[k].cov)
-          << "window " << window << ", frame " << k;
+          << "window " << window << ", frame " << k << ": mean diff " << (a.track[k].mean - b.track[k].mean).transpose()
+          << ", cov diff " << (a.track[k].cov - b.track[k].cov).cwiseAbs().maxCoeff() << ", iterations " << a.iterations
+          << " vs " << b.iterations;
     }
   }
+}
+
+TEST(ChainMarginals, BlockTridiagonal_MatchTheDenseInverse) {
+  // GIVEN: a random block-tridiagonal SPD information matrix of 7 poses (a Gram matrix of a
+  // chain-shaped Jacobian, so positive definite).
+  constexpr int kPoses = 7;
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> n(0.0, 1.0);
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(4 + 8 * (kPoses - 1), 4 * kPoses);
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) J(r, c) = n(rng);
+  for (int i = 1; i < kPoses; ++i)
+    for (int r = 0; r < 8; ++r)
+      for (int c = 0; c < 8; ++c) J(4 + 8 * (i - 1) + r, 4 * (i - 1) + c) = n(rng);
+  const Eigen::MatrixXd H = J.transpose() * J;
+  std::vector<Eigen::Matrix4d> diagonal, upper;
+  for (int i = 0; i < kPoses; ++i) {
+    diagonal.push_back(H.block<4, 4>(4 * i, 4 * i));
+    if (i + 1 < kPoses) upper.push_back(H.block<4, 4>(4 * i, 4 * i + 4));
+  }
+  // WHEN
+  const auto C = chain_marginal_covariances(diagonal, upper);
+  // THEN: the diagonal blocks of H^-1.
+  ASSERT_TRUE(C.has_value());
+  const Eigen::MatrixXd H_inv = H.inverse();
+  for (int i = 0; i < kPoses; ++i) {
+    const Eigen::Matrix4d expected = H_inv.block<4, 4>(4 * i, 4 * i);
+    EXPECT_LT(((*C)[static_cast<std::size_t>(i)] - expected).cwiseAbs().maxCoeff(), 1e-9 * expected.cwiseAbs().maxCoeff())
+        << "pose " << i;
+  }
+  // AND: a singular chain (pose 3 unobserved in yaw) is refused, not inverted.
+  for (Eigen::Matrix4d* m : {&diagonal[3], &upper[2], &upper[3]}) {
+    m->row(3).setZero();
+    if (m == &diagonal[3]) m->col(3).setZero();
+  }
+  upper[2].col(3).setZero();
+  EXPECT_FALSE(chain_marginal_covariances(diagonal, upper).has_value());
 }
 
 TEST(RangeSmoother, UnusableSettings_FieldErrorNamingTheField) {

@@ -29,12 +29,17 @@
 //   W >= 2 sliding window: frame k is the newest pose of the problem over frames
 //          max(0, k - W + 1)..k (a fixed-lag filter: causal, only past readings).
 //   Frame 0 keeps the filter's belief in both.
-// Covariance: ceres::Covariance (SPARSE_QR) of each reported pose; where it fails (rank
-// deficiency), the filter's covariance for that frame, counted in covariance_fallbacks.
+// Covariance: the marginals of H = J^T J at the solution (J whitened, with Ceres' loss
+// corrections, as ceres::Covariance would take it), by chain_marginal_covariances(); where H is
+// singular (rank deficiency), the filter's covariance for that frame, counted in
+// covariance_fallbacks.
 // Deterministic: one thread, same input -> same output.
 
 #include <cstdint>
+#include <optional>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "losmimo/common/range.h"
 #include "losmimo/localization/pose_filter.h"
@@ -71,6 +76,16 @@ struct RangeSmootherResult {
   std::int64_t ranges_down_weighted = 0;  // of them, beyond the loss scale a at the reported pose
   int covariance_fallbacks = 0;
 };
+
+// The per-pose blocks of H^-1 for a block-tridiagonal information H (a chain: diagonal blocks
+// D_0..D_{n-1}, upper blocks B_i = H_(i, i+1)), in O(n):
+//   forward  S_0 = D_0,  S_i = D_i - B_{i-1}^T S_{i-1}^-1 B_{i-1}
+//   backward C_{n-1} = S_{n-1}^-1,  C_i = S_i^-1 + G_i C_{i+1} G_i^T,  G_i = S_i^-1 B_i
+// (the Rauch-Tung-Striebel recursion in information form). nullopt when some S_i is not
+// positive definite or its reciprocal condition number is below 1e-14. Throws
+// std::invalid_argument unless upper.size() + 1 == diagonal.size() >= 1.
+std::optional<std::vector<Eigen::Matrix4d>> chain_marginal_covariances(const std::vector<Eigen::Matrix4d>& diagonal,
+                                                                       const std::vector<Eigen::Matrix4d>& upper);
 
 // Throws std::invalid_argument for an empty track, an invalid config (validate(), and
 // localization::validate(PoseFilterConfig)).
