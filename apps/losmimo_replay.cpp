@@ -13,7 +13,8 @@ int main(int argc, char** argv) {
   CLI::App app{"Replay a rawlog through an estimator and evaluate the placement along it"};
   app.add_option("rawlog", options.rawlog_path, "input rawlog (gzip or plain)")->required();
   app.add_option("--estimator", options.estimator, "ekf or pf (default: as recorded)");
-  app.add_flag("--refine", options.refine, "Ceres sliding-window refinement (default: as recorded)");
+  app.add_flag("--refine", options.refine,
+               "Ceres sliding-window refinement (default: as recorded); range-only: a Ceres smoother after the filter");
   app.add_flag("--no-refine", options.no_refine, "no refinement");
   CLI::Option* out_option =
       app.add_option("--out", options.out_dir, "write estimates.csv, epochs.csv, summary.csv into this new folder");
@@ -33,11 +34,15 @@ int main(int argc, char** argv) {
   app.add_option("--ground-truth", options.ground_truth,
                  "range-only: robot path as ro-localization's groundTruthFile ('k x y phi' relative to the start)");
   app.add_option("--settle-steps", options.settle_steps, "range-only: frames before the settled residual RMS (default 10)");
+  CLI::Option* refine_window_option = app.add_option(
+      "--refine-window", options.refine_window,
+      "range-only, with --refine: 0 smooths the whole log (default), W >= 2 refines each frame over its last W frames");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   options.out_given = out_option->count() > 0;
+  options.refine_window_given = refine_window_option->count() > 0;
   return losmimo::apps::run_replay_app(options, std::cout, std::cerr);
 }

@@ -3,21 +3,24 @@
 
 #include <Eigen/Cholesky>
 #include <stdexcept>
+#include <string>
 
 namespace losmimo::fusion {
 
-ceres::CostFunction* PositionPriorCost::Create(const Eigen::Vector3d& mean_m,
-                                               const Eigen::Matrix3d& cov_m2) {
-  const Eigen::LLT<Eigen::Matrix3d> llt(cov_m2);
-  if (llt.info() != Eigen::Success || !cov_m2.allFinite()) {
-    throw std::invalid_argument("PositionPriorCost: cov_m2 is not symmetric positive definite");
+Eigen::MatrixXd sqrt_information(const Eigen::MatrixXd& cov, const char* who) {
+  const Eigen::LLT<Eigen::MatrixXd> llt(cov);
+  if (!cov.allFinite() || llt.info() != Eigen::Success) {
+    throw std::invalid_argument(std::string(who) + ": the covariance is not symmetric positive definite");
   }
   // cov = L L^T  =>  cov^-1 = L^-T L^-1, so S = L^-1 whitens: |S e|^2 = e^T cov^-1 e.
-  const Eigen::Matrix3d L = llt.matrixL();
-  const Eigen::Matrix3d sqrt_information =
-      L.triangularView<Eigen::Lower>().solve(Eigen::Matrix3d::Identity());
+  const Eigen::MatrixXd L = llt.matrixL();
+  return L.triangularView<Eigen::Lower>().solve(Eigen::MatrixXd::Identity(cov.rows(), cov.cols()));
+}
+
+ceres::CostFunction* PositionPriorCost::Create(const Eigen::Vector3d& mean_m,
+                                               const Eigen::Matrix3d& cov_m2) {
   return new ceres::AutoDiffCostFunction<PositionPriorCost, 3, 3>(
-      new PositionPriorCost(mean_m, sqrt_information));
+      new PositionPriorCost(mean_m, sqrt_information(cov_m2, "PositionPriorCost")));
 }
 
 ceres::CostFunction* BeaconCost::Create(double range_m, double azimuth_rad, double elevation_rad,

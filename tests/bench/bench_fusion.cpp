@@ -1,10 +1,11 @@
-// Cost of the fusion layer: one sliding-window refinement per UAV per swarm iteration, and the
-// centralized eq. 4 solution. Windows are drawn before timing (tests/fusion/window_simulator.h).
+// Cost of the fusion layer: one sliding-window refinement per UAV per swarm iteration, the
+// centralized eq. 4 solution, and the range-only smoother. Windows are drawn before timing (tests/fusion/window_simulator.h).
 #include <benchmark/benchmark.h>
 
 #include <random>
 #include <vector>
 
+#include "fusion/range_track_simulator.h"
 #include "fusion/window_simulator.h"
 #include "losmimo/fusion/centralized.h"
 #include "losmimo/fusion/closed_loop.h"
@@ -81,5 +82,19 @@ void BM_ClosedLoopRun(benchmark::State& state) {
       benchmark::Counter(iterations, benchmark::Counter::kAvgIterations);
 }
 BENCHMARK(BM_ClosedLoopRun)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+
+// The range-only smoother over a 240-frame synthetic track (tests/fusion/range_track_simulator.h):
+// range(0) = window_frames (0: the whole track in one problem).
+void BM_SmoothRangeTrack(benchmark::State& state) {
+  const losmimo::test_support::Synthetic s = losmimo::test_support::simulate(1, 0.0);
+  losmimo::fusion::RangeSmootherConfig config;
+  config.window_frames = static_cast<int>(state.range(0));
+  for (auto _ : state) {
+    const auto result = losmimo::fusion::smooth_range_track(losmimo::test_support::filter_config(),
+                                                            losmimo::test_support::four_beacons(), s.frames, config);
+    benchmark::DoNotOptimize(result.track.data());
+  }
+}
+BENCHMARK(BM_SmoothRangeTrack)->Arg(0)->Arg(10)->Unit(benchmark::kMillisecond);
 
 }  // namespace

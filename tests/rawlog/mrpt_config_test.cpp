@@ -96,18 +96,28 @@ TEST(MrptAppConfig, BadValues_NameSectionKeyAndValue) {
   EXPECT_THROW(read_mrpt_app_config("/nonexistent/app.ini"), common::InputError);
 }
 
-TEST(RangeReplayGroundTruth, UwbDemo_AlignedAsRoLocalization_FilterBeatsDeadReckoning) {
-  SKIP_WITHOUT(kUwbIni);
-  SKIP_WITHOUT(kUwbLog);
-  // GIVEN: the UWB demo with its stock config (3 beacons, 0.17 m, start (2, 4, 0 deg)).
-  const MrptAppConfig c = read_mrpt_app_config(kUwbIni);
+RangeLog uwb_log() {
   RawlogReader reader = RawlogReader::open_file(kUwbLog);
-  const RangeLog log = load_range_log(reader);
+  return load_range_log(reader);
+}
+
+// What losmimo-replay --mrpt-config takes from the UWB config: prior, range sigma, ground truth.
+RangeReplayOptions uwb_options(const MrptAppConfig& c) {
   RangeReplayOptions o;
   o.prior = c.prior;
   o.config.filter.noise.sigma_range_m = *c.range_sigma_m;
   o.ground_truth = read_relative_ground_truth(c.ground_truth_file);
   o.ground_truth_origin = *c.start_pose;
+  return o;
+}
+
+TEST(RangeReplayGroundTruth, UwbDemo_AlignedAsRoLocalization_FilterBeatsDeadReckoning) {
+  SKIP_WITHOUT(kUwbIni);
+  SKIP_WITHOUT(kUwbLog);
+  // GIVEN: the UWB demo with its stock config (3 beacons, 0.17 m, start (2, 4, 0 deg)).
+  const MrptAppConfig c = read_mrpt_app_config(kUwbIni);
+  const RangeLog log = uwb_log();
+  RangeReplayOptions o = uwb_options(c);
   // WHEN
   const RangeReplayResult r = replay_ranges(log, c.beacons, o);
   // THEN: ro-localization's alignment: GT row k is the k-th (action, sensory frame) pair, i.e.
@@ -127,6 +137,27 @@ TEST(RangeReplayGroundTruth, UwbDemo_AlignedAsRoLocalization_FilterBeatsDeadReck
             << r.dr_rmse_m << " m\n";
   EXPECT_LT(r.rmse_m, 0.5 * r.dr_rmse_m);
   EXPECT_LT(r.rmse_m, 0.25);
+}
+
+TEST(RangeReplayGroundTruth, UwbDemo_BatchSmootherBeatsTheFilter) {
+  SKIP_WITHOUT(kUwbIni);
+  SKIP_WITHOUT(kUwbLog);
+  // GIVEN: the UWB demo as above, with the batch smoother after the EKF.
+  const MrptAppConfig c = read_mrpt_app_config(kUwbIni);
+  const RangeLog log = uwb_log();
+  RangeReplayOptions o = uwb_options(c);
+  o.refine = fusion::RangeSmootherConfig{};
+  // WHEN
+  const RangeReplayResult r = replay_ranges(log, c.beacons, o);
+  // THEN: measured 0.120 m against the EKF's 0.140 m; required: below 0.9 of the filter's. The
+  // log's ~13 % range outliers (the filter gates 135) are down-weighted by the Cauchy loss.
+  std::cout << "UWB demo smoother: RMSE " << r.refined_rmse_m << " m (EKF " << r.rmse_m << "), NEES(xy) "
+            << r.refined_mean_nees << ", down-weighted " << r.smoother.ranges_down_weighted << " of "
+            << r.smoother.ranges_used << "\n";
+  EXPECT_LT(r.refined_rmse_m, 0.9 * r.rmse_m);
+  EXPECT_GT(r.smoother.ranges_down_weighted, 50);
+  EXPECT_LT(r.smoother.ranges_down_weighted, 250);
+  EXPECT_LT(r.refined_mean_nees, 10.0);
 }
 
 TEST(RangeReplayGroundTruth, BadGroundTruthLine_NamesLineAndColumn) {

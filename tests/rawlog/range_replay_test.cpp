@@ -118,6 +118,38 @@ TEST_P(RoSlamDemo, TrackAgreesWithPerFrameTrilateration) {
   EXPECT_LT(rms, 0.02);
 }
 
+TEST_P(RoSlamDemo, RefinedTrack_ResidualWithinTheRangeNoiseAndNearTrilateration) {
+  SKIP_WITHOUT_DEMO();
+  // GIVEN: the demo replayed with the batch smoother.
+  const RangeLog log = demo_log();
+  const localization::BeaconMap map = read_beacon_list(kDemoBeacons);
+  RangeReplayOptions o = demo_options(GetParam());
+  o.refine = fusion::RangeSmootherConfig{};
+  // WHEN
+  const RangeReplayResult r = replay_ranges(log, map, o);
+  // THEN: one converged problem, every range used, none beyond the loss scale (the demo is clean).
+  ASSERT_TRUE(r.refined);
+  EXPECT_EQ(r.smoother.problems, 1);
+  EXPECT_EQ(r.smoother.not_converged, 0);
+  EXPECT_EQ(r.smoother.covariance_fallbacks, 0);
+  EXPECT_EQ(r.smoother.ranges_used, log.ranges - static_cast<std::int64_t>(log.frames[0].scans[0].ranges.size()));
+  EXPECT_EQ(r.smoother.ranges_down_weighted, 0);
+  // AND: the post-fit residual is the range noise (the filter's: 0.0097 m), and the track is
+  // within 1 cm RMS of the per-frame trilateration (a reference a few mm noisy itself: both
+  // tracks sit there, 0.0042 m the filter, 0.0046 m the smoother).
+  std::cout << to_string(GetParam()) << " refined: residual RMS " << r.refined_residual_rms_settled_m << " m\n";
+  EXPECT_LT(r.refined_residual_rms_settled_m, 1.1 * kDemoStdError_m);
+  Eigen::Vector2d p(0.0, 0.0);
+  double sq = 0.0;
+  for (std::size_t k = 0; k < log.frames.size(); ++k) {
+    p = trilaterate(log.frames[k], map, p);
+    sq += (r.track[k].refined->mean.head<2>() - p).squaredNorm();
+  }
+  const double rms = std::sqrt(sq / static_cast<double>(log.frames.size()));
+  std::cout << to_string(GetParam()) << " refined: RMS distance to trilateration " << rms << " m\n";
+  EXPECT_LT(rms, 0.01);
+}
+
 INSTANTIATE_TEST_SUITE_P(BothFilters, RoSlamDemo, ::testing::Values(FilterKind::kEkf, FilterKind::kParticle),
                          [](const auto& info) { return localization::to_string(info.param); });
 
@@ -230,9 +262,32 @@ TEST(RangeReplayApp, DemoWithoutBeaconMap_ExitsTwoSayingWhy) {
   EXPECT_EQ(out.str().find("nan"), std::string::npos) << out.str();
 }
 
-TEST(RangeReplayApp, DemoWithBeacons_WritesTrackAndSummary) {
+TEST(RangeReplayApp, RefineWithAnUnusableWindow_ExitsTwoNamingTheOption) {
   SKIP_WITHOUT_DEMO();
-  const std::string dir = test_support::temp_path("range_replay_out");
+  for (const int window : {1, -2}) {
+    apps::ReplayAppOptions o;
+    o.rawlog_path = kDemoLog;
+    o.beacons_path = kDemoBeacons;
+    o.refine = true;
+    o.refine_window = window;
+    o.refine_window_given = true;
+    std::ostringstream out, err;
+    EXPECT_EQ(apps::run_replay_app(o, out, err), 2);
+    EXPECT_NE(err.str().find("--refine-window " + std::to_string(window) + ": must be 0"), std::string::npos)
+        << err.str();
+  }
+  apps::ReplayAppOptions o;  // a window without --refine
+  o.rawlog_path = kDemoLog;
+  o.beacons_path = kDemoBeacons;
+  o.refine_window = 5;
+  o.refine_window_given = true;
+  std::ostringstream out, err;
+  EXPECT_EQ(apps::run_replay_app(o, out, err), 2);
+  EXPECT_NE(err.str().find("--refine-window: needs --refine"), std::string::npos) << err.str();
+}
+
+// The app on the demo with its beacon file, starting at the origin, writing into a fresh `dir`.
+apps::ReplayAppOptions demo_app_options(const std::string& dir) {
   std::filesystem::remove_all(dir);
   apps::ReplayAppOptions o;
   o.rawlog_path = kDemoLog;
@@ -240,6 +295,33 @@ TEST(RangeReplayApp, DemoWithBeacons_WritesTrackAndSummary) {
   o.initial_pose = "0,0,0";
   o.out_dir = dir;
   o.out_given = true;
+  return o;
+}
+
+TEST(RangeReplayApp, DemoRefined_TrackHasRefinedColumnsAndSummaryTheFigures) {
+  SKIP_WITHOUT_DEMO();
+  const std::string dir = test_support::temp_path("range_replay_refined_out");
+  apps::ReplayAppOptions o = demo_app_options(dir);
+  o.refine = true;
+  std::ostringstream out, err;
+  ASSERT_EQ(apps::run_replay_app(o, out, err), 0) << err.str();
+  std::ifstream track(dir + "/track.csv");
+  std::string header;
+  std::getline(track, header);
+  EXPECT_NE(header.find(",refined_x_m,refined_y_m,refined_z_m,refined_heading_rad,"), std::string::npos) << header;
+  EXPECT_NE(header.find(",refined_residual_rms_m,refined_error_m,refined_nees"), std::string::npos) << header;
+  std::ifstream summary(dir + "/summary.csv");
+  std::stringstream s;
+  s << summary.rdbuf();
+  EXPECT_NE(s.str().find("refinement,\"batch\""), std::string::npos) << s.str();
+  EXPECT_NE(s.str().find("refined_residual_rms_m,"), std::string::npos) << s.str();
+  EXPECT_NE(out.str().find("refine_wall_s = "), std::string::npos) << out.str();
+}
+
+TEST(RangeReplayApp, DemoWithBeacons_WritesTrackAndSummary) {
+  SKIP_WITHOUT_DEMO();
+  const std::string dir = test_support::temp_path("range_replay_out");
+  const apps::ReplayAppOptions o = demo_app_options(dir);
   std::ostringstream out, err;
   ASSERT_EQ(apps::run_replay_app(o, out, err), 0) << err.str();
   std::ifstream track(dir + "/track.csv");

@@ -10,6 +10,7 @@
 #include "losmimo/apps/exit_codes.h"
 #include "losmimo/apps/replay_app.h"
 #include "losmimo/common/atomic_file.h"
+#include "losmimo/common/field_error.h"
 #include "losmimo/common/format.h"
 #include "losmimo/common/input_error.h"
 #include "losmimo/common/staged_output.h"
@@ -57,7 +58,19 @@ RangeReplayOptions range_options(const ReplayAppOptions& o, const MrptAppConfig*
   } else {
     throw common::InputError("--estimator '" + o.estimator + "': must be ekf or pf");
   }
-  if (o.refine) throw common::InputError("--refine: not available for range-only logs (--beacons)");
+  if (o.refine_window_given && !o.refine) throw common::InputError("--refine-window: needs --refine");
+  if (o.refine) {
+    fusion::RangeSmootherConfig refine;
+    refine.window_frames = o.refine_window;
+    try {
+      fusion::validate(refine);
+    } catch (const common::FieldError&) {  // the one field the option sets
+      throw common::InputError("--refine-window " + std::to_string(o.refine_window) +
+                                   ": must be 0 (smooth the whole log) or a window of 2 to 100000 frames",
+                               "--refine-window");
+    }
+    ro.refine = refine;
+  }
   if (o.range_sigma_m < 0.0 || !std::isfinite(o.range_sigma_m)) {
     throw common::InputError("--range-sigma " + common::format_double(o.range_sigma_m) + ": must be >= 0");
   }
@@ -155,7 +168,8 @@ int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std
   if (published != kExitOk) return published;
   for (const auto& [k, v] : rows) out << k << " = " << v << "\n";
   // Process-dependent: stdout only.
-  out << "filter_wall_s = " << common::format_g(filter_wall_s, 4) << "\n";
+  out << "filter_wall_s = " << common::format_g(filter_wall_s - result.refine_wall_s, 4) << "\n";
+  if (result.refined) out << "refine_wall_s = " << common::format_g(result.refine_wall_s, 4) << "\n";
   if (!complete) {
     print_error(err, kApp, options.rawlog_path + ": " + log.read_status.describe());
     return kExitFailure;

@@ -3,11 +3,13 @@
 #include "losmimo/rawlog/format.h"
 
 #include <Eigen/Cholesky>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <limits>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "losmimo/common/format.h"
 #include "losmimo/common/input_error.h"
@@ -71,16 +73,18 @@ void add_counters(FilterCounters& to, const FilterCounters& from) {
 
 // Post-fit residuals at `pose` of the readings the frame fused: those of the filter's update (or
 // reset fix), or, for a frame that gave the start fix, every reading that passed the screen.
-void post_fit(const RangeFrame& frame, const BeaconMap& beacons, const PoseFilterConfig& config,
-              const Eigen::Vector4d& pose, bool start_fix, RangeTrackRow& row) {
+// Adds the squared residuals to sum_sq_m2 and returns their number.
+int post_fit(const RangeFrame& frame, const BeaconMap& beacons, const PoseFilterConfig& config,
+             const RangeInnovations& innovations, const Eigen::Vector4d& pose, bool start_fix, double& sum_sq_m2) {
+  int n = 0;
   const auto add = [&](double range_m, const Eigen::Vector3d& sensor_m, const Eigen::Vector3d& beacon_m) {
     const double e = range_m - range_predict(pose, sensor_m, beacon_m);
-    row.residual_sum_sq_m2 += e * e;
-    ++row.residuals;
+    sum_sq_m2 += e * e;
+    ++n;
   };
   if (!start_fix) {
-    for (const FusedRange& r : row.innovations.readings) add(r.range_m, r.sensor_on_robot_m, r.beacon_m);
-    return;
+    for (const FusedRange& r : innovations.readings) add(r.range_m, r.sensor_on_robot_m, r.beacon_m);
+    return n;
   }
   for (const BeaconRangeScan& scan : frame.scans) {
     const double sigma = range_sigma_m(config, scan);
@@ -89,6 +93,45 @@ void post_fit(const RangeFrame& frame, const BeaconMap& beacons, const PoseFilte
       add(r.range_m, r.sensor_on_robot_m, *beacons.find(r.beacon_id));
     }
   }
+  return n;
+}
+
+// e = estimate - truth in (x, y) and its NEES against the estimate's x-y covariance.
+std::pair<double, double> error_and_nees(const PoseBelief& belief, const Eigen::Vector3d& truth) {
+  const Eigen::Vector2d e = belief.mean.head<2>() - truth.head<2>();
+  return {e.norm(), e.dot(belief.cov.topLeftCorner<2, 2>().ldlt().solve(e))};
+}
+
+double rms(double sum_sq, std::int64_t n) { return n ? std::sqrt(sum_sq / static_cast<double>(n)) : kNan; }
+
+// The smoother over the filter's frames (header: Refinement); fills the rows' refined fields.
+void refine(const RangeLog& log, const BeaconMap& beacons, const RangeReplayOptions& options,
+            bool start_fix, std::vector<fusion::SmootherFrame> frames, RangeReplayResult& out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  out.smoother = fusion::smooth_range_track(options.config, beacons, frames, *options.refine);
+  out.refine_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.refined = true;
+  const int w = options.refine->window_frames;
+  out.refine_mode = w == 0 ? "batch" : "window " + std::to_string(w);
+  double res_sq = 0.0, res_sq_settled = 0.0, err_sq = 0.0, nees = 0.0;
+  for (std::size_t k = 0; k < out.track.size(); ++k) {
+    RangeTrackRow& row = out.track[k];
+    row.refined = out.smoother.track[k];
+    post_fit(log.frames[k], beacons, options.config, row.innovations, row.refined->mean,
+             k == 0 && start_fix, row.refined_residual_sum_sq_m2);
+    res_sq += row.refined_residual_sum_sq_m2;
+    if (row.step >= options.settle_steps) res_sq_settled += row.refined_residual_sum_sq_m2;
+    if (row.has_truth) {
+      std::tie(row.refined_error_m, row.refined_nees) = error_and_nees(*row.refined, row.truth);
+      err_sq += row.refined_error_m * row.refined_error_m;
+      nees += row.refined_nees;
+    }
+  }
+  out.smoother.track.clear();  // kept in the rows
+  out.refined_residual_rms_m = rms(res_sq, out.residuals);
+  out.refined_residual_rms_settled_m = rms(res_sq_settled, out.residuals_settled);
+  out.refined_rmse_m = rms(err_sq, out.truth_frames);
+  out.refined_mean_nees = out.truth_frames ? nees / static_cast<double>(out.truth_frames) : kNan;
 }
 
 // The reason a log has nothing to fuse, or empty.
@@ -139,6 +182,7 @@ std::string nothing_to_fuse(const RangeLog& log, const BeaconMap& beacons) {
 RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, const RangeReplayOptions& options) {
   if (const std::string why = nothing_to_fuse(log, beacons); !why.empty()) throw common::InputError(why);
   validate(options.config);
+  if (options.refine) fusion::validate(*options.refine);
   RangeReplayResult out;
   out.estimator = to_string(options.estimator);
   out.settle_steps = options.settle_steps;
@@ -156,6 +200,7 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
       make_pose_filter(options.estimator, options.config, beacons, start, options.seed);
   Eigen::Vector4d dr = moments(start).mean;
   std::size_t pair = 0;  // (action, sensory frame) pairs so far: the ground-truth row index
+  std::vector<fusion::SmootherFrame> smoother_frames;  // what the filter was given, for refine()
 
   for (std::size_t k = 0; k < log.frames.size(); ++k) {
     const RangeFrame& frame = log.frames[k];
@@ -165,6 +210,7 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
     for (const BeaconRangeScan& s : frame.scans) row.ranges += static_cast<int>(s.ranges.size());
     if (k == 0 && start.fix) {
       row.belief = filter->belief();
+      if (options.refine) smoother_frames.push_back({{}, frame.scans, {}});
     } else {
       OdometryIncrement u;
       if (k > 0 && frame.has_odometry) {
@@ -174,6 +220,7 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
         u.cov.diagonal() << q, q, q, options.no_odometry_sigma_yaw_rad * options.no_odometry_sigma_yaw_rad;
       }
       filter->step(u, frame.scans);
+      if (options.refine) smoother_frames.push_back({u, frame.scans, {}});
       row.belief = filter->belief();
       row.innovations = filter->last_innovations();
       if (k > 0 && frame.has_odometry) dr = compose(dr, frame.odometry.delta);
@@ -186,13 +233,13 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
       row.has_truth = true;
       row.truth = Eigen::Vector3d(o(0) + c * rel(0) - sn * rel(1), o(1) + sn * rel(0) + c * rel(1),
                                   wrap_angle_rad(o(2) + rel(2)));
-      const Eigen::Vector2d e = row.belief.mean.head<2>() - row.truth.head<2>();
-      row.error_m = e.norm();
-      row.nees = e.dot(row.belief.cov.topLeftCorner<2, 2>().ldlt().solve(e));
+      std::tie(row.error_m, row.nees) = error_and_nees(row.belief, row.truth);
       row.dr_error_m = (dr.head<2>() - row.truth.head<2>()).norm();
     }
     if (frame.has_odometry) ++pair;
-    post_fit(frame, beacons, options.config, row.belief.mean, k == 0 && start.fix.has_value(), row);
+    row.residuals = post_fit(frame, beacons, options.config, row.innovations, row.belief.mean,
+                             k == 0 && start.fix.has_value(), row.residual_sum_sq_m2);
+    if (options.refine) smoother_frames.back().filter_belief = row.belief;
     out.track.push_back(row);
   }
   add_counters(out.counters, filter->counters());
@@ -234,6 +281,7 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
   out.rmse_m = out.truth_frames ? std::sqrt(err_sq / nt) : kNan;
   out.mean_nees = out.truth_frames ? nees / nt : kNan;
   out.dr_rmse_m = out.truth_frames ? std::sqrt(dr_sq / nt) : kNan;
+  if (options.refine) refine(log, beacons, options, start.fix.has_value(), std::move(smoother_frames), out);
   return out;
 }
 
@@ -254,7 +302,12 @@ void write_range_track_csv(const RangeReplayResult& result, const std::string& p
   std::ofstream f(path);
   if (!f) throw std::runtime_error(path + ": cannot write");
   f << "step,timestamp_s,x_m,y_m,z_m,heading_rad,var_x_m2,var_y_m2,var_z_m2,var_heading_rad2,ranges,fused,"
-       "innovation_rms_m,nis,residual_rms_m,dr_x_m,dr_y_m,dr_z_m,dr_heading_rad,gt_x_m,gt_y_m,gt_heading_rad,error_m,nees,dr_error_m\n";
+       "innovation_rms_m,nis,residual_rms_m,dr_x_m,dr_y_m,dr_z_m,dr_heading_rad,gt_x_m,gt_y_m,gt_heading_rad,error_m,nees,dr_error_m";
+  if (result.refined) {
+    f << ",refined_x_m,refined_y_m,refined_z_m,refined_heading_rad,refined_var_x_m2,refined_var_y_m2,refined_var_z_m2,"
+         "refined_var_heading_rad2,refined_residual_rms_m,refined_error_m,refined_nees";
+  }
+  f << "\n";
   for (const RangeTrackRow& r : result.track) {
     const auto& m = r.belief.mean;
     const auto& P = r.belief.cov;
@@ -269,10 +322,19 @@ void write_range_track_csv(const RangeReplayResult& result, const std::string& p
       << num(r.dead_reckoning(3));
     if (r.has_truth) {
       f << "," << num(r.truth(0)) << "," << num(r.truth(1)) << "," << num(r.truth(2)) << "," << num(r.error_m) << ","
-        << num(r.nees) << "," << num(r.dr_error_m) << "\n";
+        << num(r.nees) << "," << num(r.dr_error_m);
     } else {
-      f << ",nan,nan,nan,nan,nan,nan\n";
+      f << ",nan,nan,nan,nan,nan,nan";
     }
+    if (r.refined) {
+      const auto& rm = r.refined->mean;
+      const auto& rP = r.refined->cov;
+      f << "," << num(rm(0)) << "," << num(rm(1)) << "," << num(rm(2)) << "," << num(rm(3)) << "," << num(rP(0, 0))
+        << "," << num(rP(1, 1)) << "," << num(rP(2, 2)) << "," << num(rP(3, 3)) << ","
+        << (r.residuals ? num(std::sqrt(r.refined_residual_sum_sq_m2 / r.residuals)) : "nan") << ","
+        << (r.has_truth ? num(r.refined_error_m) : "nan") << "," << (r.has_truth ? num(r.refined_nees) : "nan");
+    }
+    f << "\n";
   }
   if (!f) throw std::runtime_error(path + ": write failed");
 }
@@ -308,9 +370,25 @@ std::vector<std::pair<std::string, std::string>> range_summary_rows(const RangeL
       {"rmse_xy_m", num(r.rmse_m)},
       {"mean_nees_xy", num(r.mean_nees)},
       {"dead_reckoning_rmse_xy_m", num(r.dr_rmse_m)},
-      {"other_classes_skipped", describe_counts(log.skipped)},
-      {"trailing_actions", i(log.trailing_actions)},
   };
+  if (r.refined) {
+    const fusion::RangeSmootherResult& sm = r.smoother;
+    rows.insert(rows.end(), {
+        {"refinement", r.refine_mode},
+        {"refined_residual_rms_m", num(r.refined_residual_rms_m)},
+        {"refined_residual_rms_settled_m", num(r.refined_residual_rms_settled_m)},
+        {"refined_rmse_xy_m", num(r.refined_rmse_m)},
+        {"refined_mean_nees_xy", num(r.refined_mean_nees)},
+        {"refined_ranges_used", i(sm.ranges_used)},
+        {"refined_ranges_down_weighted", i(sm.ranges_down_weighted)},
+        {"refined_problems", std::to_string(sm.problems)},
+        {"refined_not_converged", std::to_string(sm.not_converged)},
+        {"refined_iterations", i(sm.iterations)},
+        {"refined_covariance_fallbacks", std::to_string(sm.covariance_fallbacks)},
+    });
+  }
+  rows.push_back({"other_classes_skipped", describe_counts(log.skipped)});
+  rows.push_back({"trailing_actions", i(log.trailing_actions)});
   if (!r.track.empty()) {
     const auto& m = r.track.back().belief.mean;
     const auto& d = r.track.back().dead_reckoning;
@@ -320,6 +398,11 @@ std::vector<std::pair<std::string, std::string>> range_summary_rows(const RangeL
     rows.push_back({"final_dr_x_m", num(d(0))});
     rows.push_back({"final_dr_y_m", num(d(1))});
     rows.push_back({"final_dr_heading_rad", num(d(3))});
+    if (const auto& f = r.track.back().refined) {
+      rows.push_back({"final_refined_x_m", num(f->mean(0))});
+      rows.push_back({"final_refined_y_m", num(f->mean(1))});
+      rows.push_back({"final_refined_heading_rad", num(f->mean(3))});
+    }
   }
   return rows;
 }

@@ -22,6 +22,10 @@ T wrap_angle_rad(const T& angle_rad) {
   return atan2(sin(angle_rad), cos(angle_rad));
 }
 
+// S with S^T S = cov^-1 (S = L^-1 for cov = L L^T), the whitening of a Gaussian residual.
+// Throws std::invalid_argument naming `who` if cov is not finite symmetric positive definite.
+Eigen::MatrixXd sqrt_information(const Eigen::MatrixXd& cov, const char* who);
+
 // Gaussian prior on a position (the filter's belief at the oldest window epoch):
 //   r = S (q - mean),   S^T S = cov^-1   (S = L^-1, cov = L L^T)
 class PositionPriorCost {

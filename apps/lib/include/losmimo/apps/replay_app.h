@@ -33,6 +33,10 @@ struct ReplayAppOptions {
   double range_sigma_m = 0.0;  // 0: the log's stdError
   int particles = 0;  // 0: [PF_options] sampleSize of --mrpt-config, else 1000
   int settle_steps = 10;
+  // --refine on a range-only log: 0 smooths the whole log in one Ceres problem, W >= 2 refines
+  // each frame in the window of the last W frames (fusion/range_smoother.h).
+  int refine_window = 0;
+  bool refine_window_given = false;
   // A stock ro-localization / pf-localization APP.ini (rawlog/mrpt_app_config.h): beacon map,
   // prior, range noise, particles, ground truth. Explicit options win over it.
   std::string mrpt_config{};

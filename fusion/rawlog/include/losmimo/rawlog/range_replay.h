@@ -23,6 +23,12 @@
 // is origin (+) row (2-D). Per frame with truth: e = estimate - truth in (x, y), NEES
 // e^T P_xy^-1 e (2 dof), and the same error for dead reckoning. Summary: RMSE over those frames,
 // mean NEES (2 for a consistent filter), dead reckoning's RMSE.
+// Refinement (options.refine, fusion/range_smoother.h): after the filter, a Ceres smoother over
+// the same frames (the filter's odometry increments, including the no-odometry random walk, and
+// its range readings and screen), seeded by the filter's track. Each row then also has the
+// refined pose and covariance, its post-fit residuals over the same readings as the filter's
+// (so the two residual RMS compare like with like), and with truth its error and NEES; the
+// summary the same figures beside the filter's and dead reckoning's.
 // Errors (common::InputError, the reason a user can act on): no CObservationBeaconRanges in the
 // log, an empty map, ranges of several UAVs (labels "UAVnn_...", a losmimo log: the message
 // names the rawlog-edit command that keeps one), no reading whose beacon ID is in the map, no
@@ -33,6 +39,7 @@
 #include <string>
 #include <vector>
 
+#include "losmimo/fusion/range_smoother.h"
 #include "losmimo/localization/initial_pose.h"
 #include "losmimo/localization/pose_filter.h"
 #include "losmimo/rawlog/range_log.h"
@@ -50,6 +57,7 @@ struct RangeReplayOptions {
   double no_odometry_sigma_yaw_rad = 0.1;
   std::vector<Eigen::Vector3d> ground_truth;  // relative rows (x_m, y_m, phi_rad); empty: none
   Eigen::Vector3d ground_truth_origin = Eigen::Vector3d::Zero();
+  std::optional<fusion::RangeSmootherConfig> refine;  // none: the filter only
 };
 
 struct RangeTrackRow {
@@ -64,6 +72,11 @@ struct RangeTrackRow {
   bool has_truth = false;
   Eigen::Vector3d truth = Eigen::Vector3d::Zero();  // (x_m, y_m, phi_rad), map frame
   double error_m = 0.0, nees = 0.0, dr_error_m = 0.0;
+  // With refinement: the smoother's pose, its post-fit residuals (the same readings as above),
+  // and with truth its error and NEES.
+  std::optional<localization::PoseBelief> refined;
+  double refined_residual_sum_sq_m2 = 0.0;
+  double refined_error_m = 0.0, refined_nees = 0.0;
 };
 
 struct RangeReplayResult {
@@ -78,6 +91,13 @@ struct RangeReplayResult {
   int settle_steps = 0;
   std::int64_t truth_frames = 0;
   double rmse_m = 0.0, mean_nees = 0.0, dr_rmse_m = 0.0;  // nan without truth
+  // With refinement (else `refined` false and the figures unset):
+  bool refined = false;
+  std::string refine_mode;  // "batch" or "window <W>"
+  fusion::RangeSmootherResult smoother;  // its track is in the rows' `refined`
+  double refined_residual_rms_m = 0.0, refined_residual_rms_settled_m = 0.0;
+  double refined_rmse_m = 0.0, refined_mean_nees = 0.0;  // nan without truth
+  double refine_wall_s = 0.0;  // process-dependent: not in the summary rows
 };
 
 RangeReplayResult replay_ranges(const RangeLog& log, const localization::BeaconMap& beacons,
