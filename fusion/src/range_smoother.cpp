@@ -12,6 +12,7 @@
 #include "losmimo/fusion/pose_cost_functors.h"
 #include "losmimo/localization/beacon_model.h"
 #include "losmimo/localization/range_screening.h"
+#include "solver_options.h"
 
 namespace losmimo::fusion {
 
@@ -135,15 +136,11 @@ void solve(const localization::PoseFilterConfig& config, const std::vector<Smoot
     }
   }
 
-  ceres::Solver::Options options;
-  options.linear_solver_type = n <= kMaxDensePoses ? ceres::DENSE_QR : ceres::SPARSE_NORMAL_CHOLESKY;
+  ceres::Solver::Options options = quiet_solver_options(smoother.max_iterations);
+  if (n > kMaxDensePoses) options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   // Eigen's simplicial Cholesky: reproduces its last bit (SuiteSparse, through a multithreaded BLAS,
   // need not).
   options.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
-  options.max_num_iterations = smoother.max_iterations;
-  options.logging_type = ceres::SILENT;
-  options.minimizer_progress_to_stdout = false;
-  options.num_threads = 1;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   ++out.problems;

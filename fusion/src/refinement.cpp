@@ -10,6 +10,7 @@
 
 #include "losmimo/common/field_error.h"
 #include "losmimo/fusion/cost_functors.h"
+#include "solver_options.h"
 
 namespace losmimo::fusion {
 
@@ -142,12 +143,7 @@ RefinementResult refine_window(const placement::ChannelModel& model, const Refin
     result.num_csi = num_csi_rows;
   }
 
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = config.max_iterations;
-  options.logging_type = ceres::SILENT;
-  options.minimizer_progress_to_stdout = false;
-  options.num_threads = 1;
+  const ceres::Solver::Options options = quiet_solver_options(config.max_iterations);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   result.solver_converged = summary.termination_type == ceres::CONVERGENCE;
