@@ -8,6 +8,7 @@
 #include "losmimo/common/format.h"
 #include "losmimo/common/gnuplot.h"
 #include "losmimo/experiment/channel_sweeps.h"
+#include "losmimo/experiment/report.h"
 #include "losmimo/placement/channel_conditions.h"
 
 namespace losmimo::experiment {
@@ -67,18 +68,6 @@ double plotted_x(const std::vector<double>& values, double v) {
   const auto [lo, hi] = std::minmax_element(finite.begin(), finite.end());
   const double step = finite.size() > 1 ? (*hi - *lo) / static_cast<double>(finite.size() - 1) : 10.0;
   return *hi + std::max(step, 1.0);
-}
-
-const char* color(Algorithm a) {
-  switch (a) {
-    case Algorithm::kGd: return "#1f77b4";
-    case Algorithm::kBf: return "#d62728";
-    case Algorithm::kUra: return "#2ca02c";
-    case Algorithm::kUraLattice: return "#ff7f0e";
-    case Algorithm::kUraLatticeExact: return "#9467bd";
-    case Algorithm::kRandom: return "#7f7f7f";
-  }
-  return "#000000";
 }
 
 std::string setup_line(const ExperimentSettings& s, const std::string& sweep) {
@@ -330,7 +319,7 @@ std::vector<std::string> write_channel_sweep_figure(const ExperimentSettings& s,
       << "plot ";
     for (std::size_t i = 0; i < s.algorithms.size(); ++i) {
       g << (i ? ", " : "") << "'" << sweep << ".dat' index " << i << " using 1:" << 2 + 2 * m << ":" << 3 + 2 * m
-        << " with yerrorlines lw 2 lc rgb '" << color(s.algorithms[i]) << "' title '" << to_string(s.algorithms[i])
+        << " with yerrorlines lw 2 lc rgb '" << algorithm_color(s.algorithms[i]) << "' title '" << to_string(s.algorithms[i])
         << "' noenhanced";
     }
     g << "\n";

@@ -63,7 +63,9 @@ std::string gp_header(const std::string& png, const std::string& title, const st
   return o.str();
 }
 
-const char* color(Algorithm a) {
+}  // namespace
+
+const char* algorithm_color(Algorithm a) {
   switch (a) {
     case Algorithm::kGd: return "#1f77b4";
     case Algorithm::kBf: return "#d62728";
@@ -74,7 +76,6 @@ const char* color(Algorithm a) {
   }
   return "#000000";
 }
-}  // namespace
 
 std::vector<PaperValue> paper_values() {
   const std::string R = "random", GD = "gd", BF = "bf", URA = "ura";
@@ -165,7 +166,7 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
                    "iteration", "SINR [dB]")
       << "plot ";
     for (std::size_t i = 0; i < traced.size(); ++i) {
-      const std::string c = color(traced[i]);
+      const std::string c = algorithm_color(traced[i]);
       const std::string name = to_string(traced[i]);
       a << (i ? ", " : "") << "'fig1.dat' index " << i << " using 1:2 with lines lw 2 lc rgb '" << c
         << "' title '" << name << "' noenhanced";
@@ -190,7 +191,7 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
                    "localization error sigma_{loc} [m]", "distance per UAV [m]")
       << "plot ";
     for (std::size_t i = 0; i < movers.size(); ++i) {
-      const std::string c = color(movers[i]);
+      const std::string c = algorithm_color(movers[i]);
       const std::string name = to_string(movers[i]);
       g << (i ? ", " : "") << "'fig2a.dat' index " << i << " using 1:2:3 with yerrorlines lw 2 dt 1 lc rgb '" << c
         << "' title '" << name << " ICN 0.5' noenhanced, '' index " << i << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '"
@@ -215,7 +216,7 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
                    xlabel, "SINR [dB]")
       << "plot ";
     for (std::size_t i = 0; i < s.algorithms.size(); ++i) {
-      const std::string c = color(s.algorithms[i]);
+      const std::string c = algorithm_color(s.algorithms[i]);
       const std::string name = to_string(s.algorithms[i]);
       g << (i ? ", " : "") << "'" << stem << ".dat' index " << i << " using 1:2:3 with yerrorlines lw 2 dt 1 lc rgb '"
         << c << "' title '" << name << " NV' noenhanced, '' index " << i << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '"

@@ -42,6 +42,9 @@ struct RunTiming {
 // 1276.3 s wall summed over shards; merge 3.8 s".
 std::string describe(const RunTiming& timing);
 
+// The line colour of an algorithm in every figure (gnuplot "#rrggbb").
+const char* algorithm_color(Algorithm algorithm);
+
 struct ReportOutcome {
   std::vector<std::string> warnings;
 };
