@@ -55,22 +55,6 @@ std::string describe(const PosePrior& prior) {
   return s.str();
 }
 
-void add_counters(FilterCounters& to, const FilterCounters& from) {
-  to.ranges_received += from.ranges_received;
-  to.ranges_fused += from.ranges_fused;
-  to.rejected_non_finite_range += from.rejected_non_finite_range;
-  to.rejected_unknown_beacon += from.rejected_unknown_beacon;
-  to.rejected_outside_sensor_limits += from.rejected_outside_sensor_limits;
-  to.rejected_implausible_range += from.rejected_implausible_range;
-  to.rejected_range_geometry += from.rejected_range_geometry;
-  to.rejected_range_gate += from.rejected_range_gate;
-  to.resets += from.resets;
-  to.resamplings += from.resamplings;
-  to.covariance_repairs += from.covariance_repairs;
-  to.non_finite_state += from.non_finite_state;
-  to.epochs += from.epochs;
-}
-
 // Post-fit residuals at `pose` of the readings the frame fused: those of the filter's update (or
 // reset fix), or, for a frame that gave the start fix, every reading that passed the screen.
 // Adds the squared residuals to sum_sq_m2 and returns their number.
@@ -193,7 +177,7 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
   const InitialPose start = initial_pose(first.scans, beacons, options.config, prior);
   // Without a fix, frame 0's readings are counted by the filter's first step() instead.
   if (start.fix) {
-    add_counters(out.counters, start.counters);
+    out.counters += start.counters;
     out.fused_in_fix = start.counters.ranges_fused;
   }
   const std::unique_ptr<PoseFilter> filter =
@@ -242,7 +226,7 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
     if (options.refine) smoother_frames.back().filter_belief = row.belief;
     out.track.push_back(row);
   }
-  add_counters(out.counters, filter->counters());
+  out.counters += filter->counters();
 
   double innov_sq = 0.0, nis = 0.0, res_sq = 0.0, res_sq_settled = 0.0, err_sq = 0.0, nees = 0.0, dr_sq = 0.0;
   std::int64_t innov_n = 0;

@@ -157,6 +157,9 @@ struct FilterCounters {
     return rejected_non_finite_displacement + rejected_non_finite_beacon +
            rejected_out_of_range_beacon + rejected_geometry + rejected_gate + rejected_ranges();
   }
+
+  // Field by field: the counts of several filter runs (e.g. a start fix and the filter after it).
+  FilterCounters& operator+=(const FilterCounters& other);
 };
 
 class PositionFilter {
