@@ -11,8 +11,6 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/obs/CObservationComment.h>
 #include <mrpt/serialization/CArchive.h>
@@ -39,7 +37,7 @@ constexpr const char* kReason = "UAV 2: no measurement and no motion for 3 itera
 // one per process (ctest runs the tests of this file in parallel processes).
 const std::string& dead_uav_log() {
   static const std::string path = [] {
-    const std::string p = temp_path("end_of_log_base_" + std::to_string(::getpid()) + ".rawlog");
+    const std::string p = temp_path("end_of_log_base.rawlog");
     record_mission(small_mission("ekf", false, "faults = unresponsive:2:4\n"), {p, 6, {}});
     return p;
   }();
@@ -84,7 +82,7 @@ struct AppRun {
   std::string out, err, summary_csv;
 };
 AppRun replay_app(const std::string& bytes, const std::string& name) {
-  const std::string path = temp_path(name + "_" + std::to_string(::getpid()) + ".rawlog");
+  const std::string path = temp_path(name + ".rawlog");
   write_file_bytes(path, bytes);
   std::ostringstream out, err;
   AppRun a;

@@ -29,7 +29,7 @@ std::map<std::string, std::string> snapshot(const fs::path& dir) {
 class OutputsInterrupt : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::path(lt::temp_path("outputs_interrupt_" + std::to_string(::getpid())));
+    dir_ = fs::path(lt::temp_path("outputs_interrupt"));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     // The small mission; another seed (--set mission.seed) gives another log.

@@ -5,6 +5,9 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <system_error>
+
+#include <unistd.h>
 
 #include "losmimo/common/ini_config.h"
 #include "losmimo/rawlog/log.h"
@@ -33,10 +36,25 @@ inline rawlog::MissionLog load_log(const std::string& path) {
   return rawlog::load_mission_log(reader);
 }
 
+// A scratch folder of this process's own, removed when it exits. ctest runs every case as its own
+// process, two at a time: cases that record one shared log under the same name (a function-local
+// static) would otherwise read each other's half-written file.
+inline const std::filesystem::path& process_temp_dir() {
+  struct Dir {
+    std::filesystem::path path;
+    ~Dir() {
+      std::error_code ignored;
+      std::filesystem::remove_all(path, ignored);
+    }
+  };
+  static const Dir dir{std::filesystem::temp_directory_path() / "losmimo_rawlog_tests" /
+                       std::to_string(static_cast<long long>(::getpid()))};
+  return dir.path;
+}
+
 inline std::string temp_path(const std::string& name) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "losmimo_rawlog_tests";
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
+  std::filesystem::create_directories(process_temp_dir());
+  return (process_temp_dir() / name).string();
 }
 
 inline void write_file_bytes(const std::string& path, const std::string& bytes) {
