@@ -1,5 +1,6 @@
 // --shard i/N and `merge`: the merged shards are byte-identical to one process; bad shard
-// specs, shards of another config and missing or repeated shards stop with exit code 2.
+// specs, shards of another config and missing or repeated shards stop with exit code 2; shards
+// that ran the kernels on different instruction sets merge with a note.
 // (Interrupted shards and damaged records: experiment_interrupt_test.cpp, records_proof_test.cpp.)
 #include <gtest/gtest.h>
 
@@ -19,6 +20,7 @@
 #include "losmimo/experiment/records.h"
 #include "losmimo/experiment/shards.h"
 #include "losmimo/experiment/summary.h"
+#include "losmimo/placement/isa.h"
 
 namespace lp = losmimo::placement;
 namespace fs = std::filesystem;
@@ -235,5 +237,60 @@ TEST_F(ExperimentShards, BadShardWallTime_Exits2NamingTheKey) {
     EXPECT_EQ(losmimo::test_support::run_merge(dirs, root_ / "m_badwall", &err), 2) << bad;
     EXPECT_NE(err.find("wall_s"), std::string::npos) << err;
     EXPECT_FALSE(fs::exists(root_ / "m_badwall" / "summary.csv")) << bad;
+  }
+}
+
+namespace {
+bool drop_isa(const std::string& line) { return line.rfind("isa", 0) != 0; }
+// An instruction-set name that is not this process's.
+std::string another_isa() { return lp::active_isa() == lp::Isa::kSse2 ? "avx2" : "sse2"; }
+}  // namespace
+
+TEST_F(ExperimentShards, ShardManifest_RecordsTheKernelsInstructionSet) {
+  for (int i = 0; i < kShards; ++i) {
+    EXPECT_NE(read_file(shard_dir(i) / "losmimo-run.ini").find("\nisa = " + lp::to_string(lp::active_isa()) + "\n"),
+              std::string::npos)
+        << i;
+  }
+  // AND: a merge of shards on one instruction set names it and adds no note.
+  std::string err;
+  ASSERT_EQ(losmimo::test_support::run_merge({shard_dir(0), shard_dir(1), shard_dir(2)}, root_ / "m_isa", &err), 0);
+  EXPECT_EQ(err.find("note:"), std::string::npos) << err;
+  EXPECT_NE(read_file(root_ / "m_isa" / "report.md").find("; " + lp::to_string(lp::active_isa()) + " kernels"),
+            std::string::npos);
+}
+
+TEST_F(ExperimentShards, ShardsOnDifferentInstructionSets_MergeWithANote) {
+  // GIVEN: shard 1 says it ran on another instruction set (experiment_isa_test.cpp runs one so).
+  const std::string other = another_isa(), mine = lp::to_string(lp::active_isa());
+  std::vector<fs::path> dirs;
+  for (int i = 0; i < kShards; ++i) {
+    dirs.push_back(i == 1 ? copy_shard(root_, i, "mixed_isa", drop_isa, "isa = " + other + "\n") : shard_dir(i));
+  }
+  std::string err;
+  ASSERT_EQ(losmimo::test_support::run_merge(dirs, root_ / "m_mixed_isa", &err), 0) << err;
+  // THEN: the merge says so, naming both and how many shards ran on each; the records merge as ever.
+  EXPECT_NE(err.find("losmimo-experiment merge: note: the shards ran the placement kernels on different instruction "
+                     "sets"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find(other + " in 1 shard"), std::string::npos) << err;
+  EXPECT_NE(err.find(mine + " in 2 shards"), std::string::npos) << err;
+  EXPECT_NE(err.find("1e-9 relative"), std::string::npos) << err;
+  EXPECT_EQ(read_file(root_ / "m_mixed_isa" / "summary.csv"), read_file(root_ / "single" / "summary.csv"));
+  EXPECT_NE(read_file(root_ / "m_mixed_isa" / "report.md").find("; kernels "), std::string::npos);
+}
+
+TEST_F(ExperimentShards, BadShardInstructionSet_Exits2NamingTheKeyAndValue) {
+  for (const char* bad : {"neon", "AVX512", ""}) {
+    std::vector<fs::path> dirs;
+    for (int i = 0; i < kShards; ++i) {
+      dirs.push_back(i == 2 ? copy_shard(root_, i, "bad_isa", drop_isa, std::string("isa = ") + bad + "\n")
+                            : shard_dir(i));
+    }
+    std::string err;
+    EXPECT_EQ(losmimo::test_support::run_merge(dirs, root_ / "m_bad_isa", &err), 2) << bad;
+    EXPECT_NE(err.find("isa = " + std::string(bad) + ": must be sse2, avx2 or avx512"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(root_ / "m_bad_isa" / "summary.csv")) << bad;
   }
 }

@@ -176,6 +176,7 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
   const ExperimentCollective* collective = options.collective && options.collective->size > 1 ? options.collective : nullptr;
   std::string dir;
   std::optional<StagedDir> staged;
+  std::string isa;
   bool shard_run = options.shard.has_value();
   // Everything that can be wrong with the input is found here, before any work or any file.
   try {
@@ -189,6 +190,7 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
     if (resume && collective) throw InputError("--resume runs in one process: not under MPI (mpirun)");
     if (options.shard && collective) throw InputError("--shard and MPI (mpirun) cannot be combined");
     settings = load_settings(options, extensions);
+    isa = detail::kernel_isa_name();
     if (options.shard) std::tie(slice.shard_index, slice.shard_count) = parse_shard(*options.shard);
     if (collective) {
       slice.shard_index = collective->rank;
@@ -262,6 +264,8 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
     if (shard_run) slice.traces = false;
     const ExperimentResults results = run_experiment(settings, extensions, threads, slice, std::ref(progress), sink);
     const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    RunTiming timing{wall_s, threads};
+    timing.isa = isa;
     if (shard_run) {
       records_part << writer.end();
       records_part.close();
@@ -270,10 +274,10 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
       std::ostringstream shard;
       shard << "\n[shard]\nindex = " << slice.shard_index << "\ncount = " << slice.shard_count
             << "\n# this shard's run, reported by the merge\nthreads = " << threads
-            << "\nwall_s = " << common::format_g(wall_s, common::kExactDigits) << "\n";
+            << "\nwall_s = " << common::format_g(wall_s, common::kExactDigits) << "\nisa = " << isa << "\n";
       staged->publish(detail::experiment_manifest("shard", settings, results.records.size(), shard.str()));
       out << "losmimo-experiment: shard " << slice.shard_index << "/" << slice.shard_count << ": "
-          << results.records.size() << " trial rows, " << describe({wall_s, threads}) << "; records in "
+          << results.records.size() << " trial rows, " << describe(timing) << "; records in "
           << staged->final_path().string() << "/records.csv\n";
       return kExitOk;
     }
@@ -283,7 +287,7 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
     if (!records_part || !trials_part || !positions_part) throw std::runtime_error("writing the partial files failed");
     fs::rename(stage / "trials.csv.partial", stage / "trials.csv");
     fs::rename(stage / "positions.csv.partial", stage / "positions.csv");
-    detail::finish_and_publish(*staged, "experiment", settings, extensions, results, {wall_s, threads}, true, out, err);
+    detail::finish_and_publish(*staged, "experiment", settings, extensions, results, timing, true, out, err);
     return kExitOk;
   } catch (...) {
     return report_current_exception(err, kApp);

@@ -117,6 +117,7 @@ std::string describe(const RunTiming& t) {
   const auto threads = [](int n) { return std::to_string(n) + (n == 1 ? " thread" : " threads"); };
   if (t.shards <= 0) {
     o << threads(t.threads) << ", " << fmt(t.wall_s, 1) << " s wall";
+    if (!t.isa.empty()) o << ", " << t.isa << " kernels";
     return o.str();
   }
   o << "merged from " << t.shards << (t.shards == 1 ? " shard" : " shards");
@@ -130,6 +131,16 @@ std::string describe(const RunTiming& t) {
     o << " (their timing was not recorded)";
   }
   o << "; merge " << fmt(t.wall_s, 1) << " s";
+  if (t.shard_isas.size() == 1) {
+    o << "; " << t.shard_isas.begin()->first << " kernels";
+  } else if (t.shard_isas.size() > 1) {
+    o << "; kernels";
+    const char* sep = " ";
+    for (const auto& [isa, n] : t.shard_isas) {
+      o << sep << isa << " in " << n << (n == 1 ? " shard" : " shards");
+      sep = ", ";
+    }
+  }
   return o.str();
 }
 

@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <stdexcept>
 #include <string>
 
 #include "losmimo/common/input_error.h"
+#include "losmimo/placement/isa.h"
 
 namespace losmimo::experiment {
 
@@ -88,6 +90,14 @@ ExperimentResults merge_shard_records(const ExperimentSettings& settings, const 
 }
 
 void add_shard_timing(const common::IniConfig& shard_ini, RunTiming& timing) {
+  if (shard_ini.has("shard", "isa")) {
+    const std::string isa = shard_ini.get_string("shard", "isa", "");
+    try {
+      ++timing.shard_isas[placement::to_string(placement::isa_from_string(isa))];
+    } catch (const std::invalid_argument&) {
+      throw common::InputError(shard_ini.where("shard", "isa") + " = " + isa + ": must be sse2, avx2 or avx512");
+    }
+  }
   if (!shard_ini.has("shard", "wall_s") || !shard_ini.has("shard", "threads")) return;
   const double wall_s = shard_ini.get_double("shard", "wall_s", 0.0);
   if (!std::isfinite(wall_s) || wall_s < 0.0) {
@@ -100,6 +110,18 @@ void add_shard_timing(const common::IniConfig& shard_ini, RunTiming& timing) {
   timing.shards_wall_s += wall_s;
   timing.min_shard_threads = timing.timed_shards == 1 ? threads : std::min(timing.min_shard_threads, threads);
   timing.max_shard_threads = std::max(timing.max_shard_threads, threads);
+}
+
+std::string mixed_isa_note(const RunTiming& timing) {
+  if (timing.shard_isas.size() < 2) return "";
+  std::string ran;
+  for (const auto& [isa, n] : timing.shard_isas) {
+    ran += (ran.empty() ? "" : ", ") + isa + " in " + std::to_string(n) + (n == 1 ? " shard" : " shards");
+  }
+  return "the shards ran the placement kernels on different instruction sets (" + ran +
+         "): the kernels give the same bits on each, but the C library picks its exp/log/sin variants by "
+         "CPU, so across machine kinds the merged metrics agree with a one-machine run to 1e-9 relative, "
+         "not necessarily to the bit";
 }
 
 }  // namespace losmimo::experiment

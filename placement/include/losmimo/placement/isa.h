@@ -2,9 +2,9 @@
 // The instruction set the placement kernels run on (kernels.h), chosen once per process.
 //
 // Default: the widest this CPU supports (AVX-512 > AVX2 > SSE2, the x86-64 baseline). The
-// environment variable LOSMIMO_ISA = sse2 | avx2 | avx512 forces one (tests run the same trials
-// on each). The kernels are written to give the same bits on every instruction set (kernels.h):
-// the choice changes speed, not results.
+// environment variable LOSMIMO_ISA = sse2 | avx2 | avx512 forces one (experiment_isa_test runs
+// the app both ways). The kernels are written to give the same bits on every instruction set
+// (kernels.h): the choice changes speed, not results.
 
 #include <string>
 #include <vector>

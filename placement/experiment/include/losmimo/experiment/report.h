@@ -16,6 +16,7 @@
 // or "cause unknown" when none does (or none was run). readings.csv holds every reading's
 // numbers.
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -37,9 +38,14 @@ struct RunTiming {
   double shards_wall_s = 0.0;  // sum over those shards
   int min_shard_threads = 0;
   int max_shard_threads = 0;
+  // The instruction set the placement kernels ran on (isa.h: "avx512"); for a merge, the shards'
+  // (their shard.ini `isa`; older shards did not record it) with how many shards ran on each.
+  std::string isa{};
+  std::map<std::string, int> shard_isas{};
 };
-// "2 threads, 500.4 s wall", or "merged from 20 shards of 1 thread: slowest 71.4 s wall,
-// 1276.3 s wall summed over shards; merge 3.8 s".
+// "2 threads, 500.4 s wall, avx512 kernels", or "merged from 20 shards of 1 thread: slowest
+// 71.4 s wall, 1276.3 s wall summed over shards; merge 3.8 s; avx512 kernels" (with shards on
+// several instruction sets: "; kernels avx2 in 5 shards, avx512 in 15 shards").
 std::string describe(const RunTiming& timing);
 
 // The line colour of an algorithm in every figure (gnuplot "#rrggbb").

@@ -25,8 +25,14 @@ std::pair<int, int> parse_shard(const std::string& text);
 ExperimentResults merge_shard_records(const ExperimentSettings& settings, const std::vector<RecordLines>& shards,
                                       const std::vector<std::string>& origins);
 
-// Adds a shard's own run (its manifest's [shard] `threads` and `wall_s`) to the merge's timing, if
-// the shard recorded them; common::InputError on a bad value.
+// Adds a shard's own run (its manifest's [shard] `threads` and `wall_s`, and the kernels'
+// instruction set `isa`) to the merge's timing, if the shard recorded them; common::InputError
+// naming the key and value on a bad one.
 void add_shard_timing(const common::IniConfig& shard_ini, RunTiming& timing);
+
+// "" when every shard that recorded its instruction set ran the kernels on the same one; else what
+// the user should know: the kernels give the same bits on each (kernels.h), the C library's math
+// may not, so the merge agrees with a one-machine run to 1e-9 relative rather than to the bit.
+std::string mixed_isa_note(const RunTiming& timing);
 
 }  // namespace losmimo::experiment
