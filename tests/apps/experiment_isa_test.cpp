@@ -1,7 +1,7 @@
 // The placement kernels compute the same bits on every instruction set (kernels.h): the real
 // losmimo-experiment forced to SSE2 (LOSMIMO_ISA) writes the same bytes as on the widest set this
 // CPU runs, shards computed on the two merge to those bytes with the merge's note, and a
-// LOSMIMO_ISA the CPU cannot run stops with exit code 2 before any work.
+// LOSMIMO_ISA the CPU cannot run stops every app with exit code 2 before any work.
 #include <gtest/gtest.h>
 
 #include "support/child_process.h"
@@ -83,14 +83,28 @@ TEST_F(ExperimentIsa, ForcedSse2_SameBytesAsTheWidest_AndMixedShardsMergeToThem)
   }
 }
 
-TEST_F(ExperimentIsa, UnknownOrUnsupportedIsa_Exits2BeforeAnyWork) {
+TEST_F(ExperimentIsa, UnknownOrUnsupportedIsa_EveryAppExits2BeforeAnyWork) {
   std::vector<std::string> bad = {"bogus", "AVX2"};
   for (const lp::Isa isa : {lp::Isa::kAvx2, lp::Isa::kAvx512}) {
     if (!lp::isa_supported(isa)) bad.push_back(lp::to_string(isa));
   }
+  const std::string source = LOSMIMO_SOURCE_DIR;
   for (const std::string& value : bad) {
-    EXPECT_EQ(run(app_args(value, root_ / "out"), "bad"), 2) << value << "\n" << log("bad");
-    EXPECT_NE(log("bad").find("LOSMIMO_ISA = '" + value + "'"), std::string::npos) << log("bad");
-    EXPECT_FALSE(fs::exists(root_ / "out")) << value;
+    const std::string env = std::string(lp::kIsaEnvironmentVariable) + "=" + value;
+    const std::vector<std::vector<std::string>> apps = {
+        app_args(value, root_ / "out"),
+        {"env", env, LOSMIMO_EVAL_APP, "--positions", source + "/datasets/examples/ura_optimal_16.csv"},
+        {"env", env, LOSMIMO_RECORD_APP, "--out", (root_ / "out.rawlog").string()},
+        {"env", env, LOSMIMO_REPLAY_APP, source + "/datasets/missions/nominal/mission.rawlog", "--out",
+         (root_ / "out").string()}};
+    for (const std::vector<std::string>& argv : apps) {
+      const int code = run(argv, "bad");
+      const std::string text = log("bad");
+      fs::remove(root_ / "bad.log");
+      EXPECT_EQ(code, 2) << value << " " << argv[2] << "\n" << text;
+      EXPECT_NE(text.find("LOSMIMO_ISA = '" + value + "'"), std::string::npos) << text;
+      // AND: nothing written, not even a partial file.
+      EXPECT_TRUE(fs::is_empty(root_)) << value << " " << argv[2];
+    }
   }
 }

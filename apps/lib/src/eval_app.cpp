@@ -11,6 +11,7 @@
 #include "losmimo/placement/metrics.h"
 #include "losmimo/placement/positions_csv.h"
 #include "losmimo/placement/settings.h"
+#include "kernel_isa.h"
 #include "messages.h"
 
 namespace losmimo::apps {
@@ -51,6 +52,7 @@ void print_table(const LinkMetrics& m, int nr, int num_antennas, std::ostream& o
 
 int run_eval_app(const EvalOptions& options, std::ostream& out, std::ostream& err) {
   try {
+    kernel_isa_name();  // a bad LOSMIMO_ISA stops here, exit code 2
     common::IniConfig config =
         options.config_path.empty() ? common::IniConfig() : common::IniConfig::from_file(options.config_path);
     for (const std::string& o : options.overrides) config.set_override(o);
@@ -77,9 +79,8 @@ int run_eval_app(const EvalOptions& options, std::ostream& out, std::ostream& er
       print_table(m, static_cast<int>(q_m.cols()), model.num_antennas(), out);
     }
     return kExitOk;
-  } catch (const common::InputError& e) {
-    print_error(err, "losmimo-eval", e.what());
-    return kExitBadInput;
+  } catch (...) {
+    return report_current_exception(err, "losmimo-eval");
   }
 }
 

@@ -22,6 +22,7 @@
 #include "losmimo/experiment/report.h"
 #include "losmimo/experiment/run_folder.h"
 #include "losmimo/experiment/shards.h"
+#include "kernel_isa.h"
 #include "messages.h"
 
 namespace losmimo::apps {
@@ -190,7 +191,7 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
     if (resume && collective) throw InputError("--resume runs in one process: not under MPI (mpirun)");
     if (options.shard && collective) throw InputError("--shard and MPI (mpirun) cannot be combined");
     settings = load_settings(options, extensions);
-    isa = detail::kernel_isa_name();
+    isa = kernel_isa_name();
     if (options.shard) std::tie(slice.shard_index, slice.shard_count) = parse_shard(*options.shard);
     if (collective) {
       slice.shard_index = collective->rank;

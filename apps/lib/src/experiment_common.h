@@ -5,7 +5,6 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -13,12 +12,10 @@
 
 #include "losmimo/common/atomic_file.h"
 #include "losmimo/common/format.h"
-#include "losmimo/common/input_error.h"
 #include "losmimo/common/staged_output.h"
 #include "losmimo/experiment/engine.h"
 #include "losmimo/experiment/report.h"
 #include "losmimo/experiment/run_folder.h"
-#include "losmimo/placement/isa.h"
 
 namespace losmimo::apps::detail {
 
@@ -46,16 +43,6 @@ class Progress {
   bool tty_;
   clock::time_point t0_;
 };
-
-// The placement kernels' instruction set (isa.h) by name; a LOSMIMO_ISA this CPU cannot run is
-// the user's to fix (InputError, exit code 2), found before any work.
-inline std::string kernel_isa_name() {
-  try {
-    return placement::to_string(placement::active_isa());
-  } catch (const std::invalid_argument& e) {
-    throw common::InputError(e.what());
-  }
-}
 
 // The manifest of a finished experiment folder: its kind ("experiment", "shard", "merged"),
 // the config digest and the record count; `extra` adds sections (a shard's [shard]).

@@ -13,6 +13,7 @@
 #include "losmimo/common/test_hook.h"
 #include "losmimo/experiment/extension.h"
 #include "losmimo/rawlog/recorder.h"
+#include "kernel_isa.h"
 #include "messages.h"
 
 namespace losmimo::apps {
@@ -39,6 +40,7 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
     for (const auto& [section, keys] : experiment::experiment_config_keys(extensions)) experiment_sections.insert(section);
     if (ini.has_section("experiment")) experiment::load_experiment_settings(ini.subset(experiment_sections), extensions);
     if (options.out_path.empty()) throw common::InputError("--out: an output file is required");
+    kernel_isa_name();  // a bad LOSMIMO_ISA stops here, exit code 2
     staged.emplace(common::StagedFile::create(options.out_path, options.replace));
     try {
       staged_beacons.emplace(common::StagedFile::create(beacons_ini_path(options.out_path), options.replace));

@@ -10,6 +10,7 @@
 #include "losmimo/common/test_hook.h"
 #include "losmimo/localization/filter.h"
 #include "losmimo/rawlog/replay.h"
+#include "kernel_isa.h"
 #include "messages.h"
 #include "replay_outputs.h"
 
@@ -58,6 +59,7 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
       throw common::InputError("--estimator '" + options.estimator + "': must be ekf or pf");
     }
     if (options.refine && options.no_refine) throw common::InputError("--refine and --no-refine together");
+    kernel_isa_name();  // a bad LOSMIMO_ISA stops here, exit code 2
     if (options.out_given && options.out_dir.empty()) throw common::InputError("--out '': an output folder is required");
     if (!options.out_dir.empty()) common::StagedDir::check(options.out_dir, options.replace, common::StaleStaging::kDiscard);
   } catch (...) {
