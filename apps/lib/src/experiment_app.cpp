@@ -4,6 +4,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -125,10 +126,12 @@ bool load_checkpoint(const StagedDir& staged, const ExperimentOptions& options, 
   return shard;
 }
 
-// MPI: every rank runs its slice in memory; rank 0 gathers, verifies, merges and writes.
+// MPI: every rank runs its slice in memory; rank 0 gathers, verifies, merges and writes. Each
+// rank's part starts with the line "isa <name>" (its kernels' instruction set).
 int run_collective(const ExperimentOptions& options, const ExperimentExtensions& extensions,
                    const ExperimentSettings& settings, ExperimentSlice slice, const std::string& dir,
-                   const ExperimentCollective& collective, std::ostream& out, std::ostream& err) {
+                   const ExperimentCollective& collective, const std::string& isa, std::ostream& out,
+                   std::ostream& err) {
   const bool root = collective.rank == 0;
   const int threads = threads_of(settings);
   std::string mine;
@@ -137,7 +140,7 @@ int run_collective(const ExperimentOptions& options, const ExperimentExtensions&
     slice.traces = false;
     detail::Progress progress(err);
     RecordsWriter writer;
-    mine = writer.header({kRecordsKindShard, collective.rank, collective.size, config_digest(settings)});
+    mine = "isa " + isa + "\n" + writer.header({kRecordsKindShard, collective.rank, collective.size, config_digest(settings)});
     run_experiment(settings, extensions, threads, slice, root ? ProgressFn(std::ref(progress)) : ProgressFn(),
                    [&](int point, const std::vector<TrialRecord>& rows) { mine += writer.point(point, rows); });
     mine += writer.end();
@@ -148,10 +151,16 @@ int run_collective(const ExperimentOptions& options, const ExperimentExtensions&
   if (!root) return mine.rfind('!', 0) == 0 ? kExitFailure : kExitOk;
   std::vector<RecordLines> shards;
   std::vector<std::string> origins;
+  std::map<std::string, int> ranks_per_isa;
   for (std::size_t r = 0; r < all.size(); ++r) {
     origins.push_back("rank " + std::to_string(r));
     if (all[r].rfind('!', 0) == 0) throw std::runtime_error(origins.back() + ": " + all[r].substr(1));
-    std::istringstream in(all[r]);
+    const std::size_t eol = all[r].find('\n');
+    if (all[r].rfind("isa ", 0) != 0 || eol == std::string::npos) {
+      throw std::runtime_error(origins.back() + ": its part does not start with its instruction set");
+    }
+    ++ranks_per_isa[all[r].substr(4, eol - 4)];
+    std::istringstream in(all[r].substr(eol + 1));
     shards.push_back(read_records(in, origins.back(), RecordsMode::kComplete));
     const RecordsHeader& h = shards.back().header;
     if (h.shard_index != static_cast<int>(r) || h.shard_count != collective.size || h.config_digest != config_digest(settings)) {
@@ -160,10 +169,14 @@ int run_collective(const ExperimentOptions& options, const ExperimentExtensions&
   }
   ExperimentResults results = merge_shard_records(settings, shards, origins);
   results.traces = traced_runs(settings);
+  if (const std::string note = mixed_isa_note(ranks_per_isa, "rank"); !note.empty()) {
+    print_error(err, kApp, "note: " + note);
+  }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   StagedDir staged = StagedDir::create(dir, options.replace, common::StaleStaging::kRefuse);
-  detail::finish_and_publish(staged, "experiment", settings, extensions, results, {wall_s, threads * collective.size},
-                             false, out, err);
+  RunTiming timing{wall_s, threads * collective.size};
+  for (const auto& [name, ranks] : ranks_per_isa) timing.isa += (timing.isa.empty() ? "" : "+") + name;
+  detail::finish_and_publish(staged, "experiment", settings, extensions, results, timing, false, out, err);
   return kExitOk;
 }
 
@@ -209,7 +222,7 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
 
   const int threads = threads_of(settings);
   try {
-    if (collective) return run_collective(options, extensions, settings, slice, dir, *collective, out, err);
+    if (collective) return run_collective(options, extensions, settings, slice, dir, *collective, isa, out, err);
 
     const fs::path stage = staged->path();
     const std::vector<std::string> extra = extra_metric_names(settings, extensions);

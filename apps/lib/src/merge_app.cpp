@@ -113,7 +113,9 @@ int merge_experiment_app(const MergeOptions& options, const ExperimentExtensions
       }
     }
     results = merge_shard_records(settings, shards, origins);
-    if (const std::string note = mixed_isa_note(timing); !note.empty()) print_error(err, kApp, "note: " + note);
+    if (const std::string note = mixed_isa_note(timing.shard_isas, "shard"); !note.empty()) {
+      print_error(err, kApp, "note: " + note);
+    }
   } catch (...) {
     return report_current_exception(err, kApp);
   }

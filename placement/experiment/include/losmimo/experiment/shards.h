@@ -5,6 +5,7 @@
 // of shards 0..N-1 exactly as one process would have, so the merged files are byte-identical to
 // a single run's.
 
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -30,9 +31,10 @@ ExperimentResults merge_shard_records(const ExperimentSettings& settings, const 
 // naming the key and value on a bad one.
 void add_shard_timing(const common::IniConfig& shard_ini, RunTiming& timing);
 
-// "" when every shard that recorded its instruction set ran the kernels on the same one; else what
-// the user should know: the kernels give the same bits on each (kernels.h), the C library's math
-// may not, so the merge agrees with a one-machine run to 1e-9 relative rather than to the bit.
-std::string mixed_isa_note(const RunTiming& timing);
+// "" when every part of a run (`part`: "shard", or "rank" under MPI) ran the kernels on the same
+// instruction set (`parts_per_isa`: name -> parts); else what the user should know: the kernels
+// give the same bits on each (kernels.h), the C library's math may not, so the merged results
+// agree with a one-machine run to 1e-9 relative rather than to the bit.
+std::string mixed_isa_note(const std::map<std::string, int>& parts_per_isa, const std::string& part);
 
 }  // namespace losmimo::experiment
