@@ -1,6 +1,5 @@
 #include "losmimo/placement/bf.h"
 
-#include <array>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -11,7 +10,8 @@ namespace losmimo::placement {
 
 namespace {
 // Flies to r, measures f with the others fixed, flies back: one probe. The cached channel is
-// brought up to date once per UAV turn (Swarm::sync_channel), not per flight.
+// brought up to date once per UAV turn (Swarm::sync_channel), not per flight. With channel
+// conditions every probe is a measurement with its own noise draw, in flight order.
 double probe(Swarm& swarm, const UavObjective& view, int m, const Eigen::Vector3d& r, ProbeActuation mode) {
   if (mode == ProbeActuation::kKeptMoveOnly) {
     swarm.count_exact_probe(m, r);
@@ -23,6 +23,32 @@ double probe(Swarm& swarm, const UavObjective& view, int m, const Eigen::Vector3
   const double f = view.objective_of_row(row);
   swarm.move(m, -r, MotionKind::kProbe, false);
   return f;
+}
+
+// f at UAV m's current cached row (f[0]) and at the probes r_1 .. r_K (f[1..K]) flown in
+// order. Without channel conditions the LoS row at a probe point depends on that point only:
+// the flights come first (their actuation errors drawn in flight order), then every point and
+// the "stay" row are evaluated in passes of kernels::kLanes (UavObjective::objectives_at).
+void probe_all(Swarm& swarm, const UavObjective& view, int m, const Eigen::Matrix3Xd& r, ProbeActuation mode,
+               double* f) {
+  if (swarm.channel_conditions().active()) {
+    f[0] = view.objective_of_row(swarm.channel().H().row(m).transpose());
+    for (Eigen::Index k = 0; k < r.cols(); ++k) f[k + 1] = probe(swarm, view, m, r.col(k), mode);
+    return;
+  }
+  thread_local Eigen::Matrix3Xd points;
+  points.resize(3, r.cols());
+  for (Eigen::Index k = 0; k < r.cols(); ++k) {
+    if (mode == ProbeActuation::kKeptMoveOnly) {
+      swarm.count_exact_probe(m, r.col(k));
+      points.col(k) = swarm.true_positions_m().col(m) + r.col(k);
+      continue;
+    }
+    swarm.move(m, r.col(k), MotionKind::kProbe, false);
+    points.col(k) = swarm.true_positions_m().col(m);
+    swarm.move(m, -r.col(k), MotionKind::kProbe, false);
+  }
+  view.objectives_at(points, true, f);
 }
 }  // namespace
 
@@ -64,23 +90,19 @@ void BruteForcePlanner::start(Swarm& swarm) {
 }
 
 int BruteForcePlanner::step_uav(Swarm& swarm, int m, double b, ProbeActuation probe_actuation) {
-  static const std::array<Eigen::Vector3d, 7> kProbes = {
-      Eigen::Vector3d(0, 0, 0),  Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(-1, 0, 0),
-      Eigen::Vector3d(0, 1, 0),  Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(0, 0, 1),
-      Eigen::Vector3d(0, 0, -1)};
+  // The probe moves z in {+e1, -e1, +e2, -e2, +e3, -e3}; index 0 is "stay".
+  static const Eigen::Matrix<double, 3, 6> kProbes =
+      (Eigen::Matrix<double, 3, 6>() << 1, -1, 0, 0, 0, 0, 0, 0, 1, -1, 0, 0, 0, 0, 0, 0, 1, -1).finished();
   // The others do not move while UAV m probes: their Gram matrix is fixed.
   const UavObjective view(swarm.channel(), m);
+  double f[7];
+  probe_all(swarm, view, m, b * kProbes, probe_actuation, f);
   int best = 0;
-  double best_f = view.objective_of_row(swarm.channel().H().row(m).transpose());
-  for (int z = 1; z < static_cast<int>(kProbes.size()); ++z) {
-    const double f = probe(swarm, view, m, b * kProbes[z], probe_actuation);
-    if (f < best_f) {
-      best_f = f;
-      best = z;
-    }
+  for (int z = 1; z < 7; ++z) {
+    if (f[z] < f[best]) best = z;
   }
   if (best != 0) {
-    swarm.move(m, b * kProbes[best], MotionKind::kPlacement);
+    swarm.move(m, b * kProbes.col(best - 1), MotionKind::kPlacement);
   } else {
     swarm.sync_channel(m);  // the probe flights' actuation errors moved it
   }
@@ -89,28 +111,28 @@ int BruteForcePlanner::step_uav(Swarm& swarm, int m, double b, ProbeActuation pr
 
 bool BruteForcePlanner::try_escape(Swarm& swarm) {
   constexpr int kReach = 4;  // probes at 1..4 eighths of the lateral period
+  constexpr int kSide = 2 * kReach + 1;
   const std::vector<int> order = uavs_by_redundancy(swarm.channel());
   const int m = order[escape_rank_ % static_cast<int>(order.size())];
   const UavObjective view(swarm.channel(), m);
   // Depth from the scenario geometry (|q| ~ R): BF never uses its own position.
   const double depth_m = swarm.channel().model().range_m();
   const double spacing = lateral_period_m(wavelength_m_, depth_m, bs_spacing_m_) / (2 * kReach);
-  const double f0 = view.objective_of_row(swarm.channel().H().row(m).transpose());
-  Eigen::Vector3d best_r = Eigen::Vector3d::Zero();
-  double best_f = f0;
+  Eigen::Matrix3Xd r(3, kSide * kSide - 1);
+  int count = 0;
   for (int i = -kReach; i <= kReach; ++i) {
     for (int k = -kReach; k <= kReach; ++k) {
-      if (k == 0 && i == 0) continue;
-      const Eigen::Vector3d r(0.0, i * spacing, k * spacing);
-      const double f = probe(swarm, view, m, r, options_.probe_actuation);
-      if (f < best_f) {
-        best_f = f;
-        best_r = r;
-      }
+      if (k != 0 || i != 0) r.col(count++) = Eigen::Vector3d(0.0, i * spacing, k * spacing);
     }
   }
-  if (best_f < (1.0 - options_.stall_min_decrease) * f0) {
-    swarm.move(m, best_r, MotionKind::kPlacement);
+  double f[kSide * kSide];
+  probe_all(swarm, view, m, r, options_.probe_actuation, f);
+  int best = 0;
+  for (int c = 1; c <= count; ++c) {
+    if (f[c] < f[best]) best = c;
+  }
+  if (best != 0 && f[best] < (1.0 - options_.stall_min_decrease) * f[0]) {
+    swarm.move(m, r.col(best - 1), MotionKind::kPlacement);
     escape_rank_ = 0;
     return true;
   }

@@ -3,6 +3,9 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <numeric>
+#include <vector>
+
+#include "lanczos.h"
 
 namespace losmimo::placement {
 
@@ -20,14 +23,29 @@ bool StallDetector::update(double objective) {
 
 void StallDetector::reset() { count_ = 0; }
 
+namespace {
+// The eigenvector of the smallest eigenvalue of a Hermitian G: n Lanczos steps reduce G to a
+// real tridiagonal T = V^H G V (lanczos.h), whose smallest eigenvector s (bisection and inverse
+// iteration) gives it as V s: ~4x faster than Eigen's complex Hermitian solver at 16 x 16
+// (bench_placement BM_UavsByRedundancy). An invariant Krylov space (which may miss the smallest
+// eigenvalue) takes that solver instead.
+Eigen::VectorXcd smallest_eigenvector(const Eigen::MatrixXcd& G) {
+  thread_local Eigen::MatrixXcd V;
+  thread_local Eigen::VectorXd alpha, beta;
+  const Eigen::Index k = detail::lanczos(G, G.cols(), V, alpha, beta);
+  if (k < G.cols()) return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd>(G).eigenvectors().col(0);
+  return V * detail::smallest_tridiagonal_eigenvector(alpha, beta);
+}
+}  // namespace
+
 std::vector<int> uavs_by_redundancy(const SwarmChannel& channel) {
   // The left singular vector of sigma_min is H v / sigma_min with v the eigenvector of the
   // smallest eigenvalue of G = H^H H: an Nt x Nt Hermitian problem instead of an SVD of H. On
   // the UAV side (Nr < Nt) the Gram matrix is K = H H^H, whose eigenvector is that vector itself.
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> eig(channel.gram());
+  const Eigen::VectorXcd v = smallest_eigenvector(channel.gram());
   const Eigen::VectorXd weight = channel.gram_side() == SwarmChannel::GramSide::kUavs
-                                     ? Eigen::VectorXd(eig.eigenvectors().col(0).cwiseAbs2())
-                                     : Eigen::VectorXd((channel.H() * eig.eigenvectors().col(0)).cwiseAbs2());
+                                     ? Eigen::VectorXd(v.cwiseAbs2())
+                                     : Eigen::VectorXd((channel.H() * v).cwiseAbs2());
   std::vector<int> order(weight.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return weight(a) > weight(b); });
@@ -40,18 +58,28 @@ double lateral_period_m(double wavelength_m, double depth_m, double bs_spacing_m
 
 LateralSearch search_lateral_period(const UavObjective& view, const Eigen::Vector3d& q_m, double period_m,
                                     int half_grid) {
-  // (2 half_grid + 1)^2 candidates, spacing period / (2 half_grid)
+  // (2 half_grid + 1)^2 candidates, spacing period / (2 half_grid), all evaluated in passes of
+  // kernels::kLanes; the centre (offset 0) gives f at the start, from the same passes.
   const double spacing = period_m / (2 * half_grid);
+  const int side = 2 * half_grid + 1;
+  thread_local Eigen::Matrix3Xd candidates;
+  thread_local std::vector<double> f;
+  candidates.resize(3, side * side);
+  f.resize(static_cast<std::size_t>(side) * side);
+  for (int i = -half_grid, c = 0; i <= half_grid; ++i) {
+    for (int j = -half_grid; j <= half_grid; ++j, ++c) {
+      candidates.col(c) = q_m + Eigen::Vector3d(0.0, i * spacing, j * spacing);
+    }
+  }
+  view.objectives_at(candidates, false, f.data());
   LateralSearch result;
-  result.objective_at_start = view.objective_at(q_m);
+  result.objective_at_start = f[static_cast<std::size_t>(side * half_grid + half_grid)];
   result.best_objective = result.objective_at_start;
-  for (int i = -half_grid; i <= half_grid; ++i) {
-    for (int j = -half_grid; j <= half_grid; ++j) {
-      const Eigen::Vector3d offset(0.0, i * spacing, j * spacing);
-      const double f = view.objective_at(q_m + offset);
-      if (f < result.best_objective) {
-        result.best_objective = f;
-        result.offset_m = offset;
+  for (int i = -half_grid, c = 0; i <= half_grid; ++i) {
+    for (int j = -half_grid; j <= half_grid; ++j, ++c) {
+      if (f[static_cast<std::size_t>(c)] < result.best_objective) {
+        result.best_objective = f[static_cast<std::size_t>(c)];
+        result.offset_m = Eigen::Vector3d(0.0, i * spacing, j * spacing);
       }
     }
   }

@@ -43,7 +43,7 @@ Swarm::Swarm(const ChannelModel& model, const Eigen::Matrix3Xd& start_m, const E
     : q_m_(start_m),
       channel_(model, start_m),
       errors_(errors),
-      rng_(seed),
+      normal_key_(seed),
       placement_dist_m_(Eigen::VectorXd::Zero(start_m.cols())),
       probe_dist_m_(Eigen::VectorXd::Zero(start_m.cols())),
       commanded_placement_dist_m_(Eigen::VectorXd::Zero(start_m.cols())),
@@ -52,8 +52,7 @@ Swarm::Swarm(const ChannelModel& model, const Eigen::Matrix3Xd& start_m, const E
   axis_sigma_loc_m_ = errors.axis_sigma_loc_m();
   axis_sigma_act_m_ = errors.axis_sigma_act_m();
   if (errors.loc_error == LocError::kFixedPerUav) {
-    // Its own generator and distribution (normal_ caches a draw): rng_ then draws only the
-    // actuation errors.
+    // Its own generator: the swarm's stream then draws only the actuation errors.
     std::mt19937_64 bias_rng(common::derive_seed(seed, {1}));
     std::normal_distribution<double> normal(0.0, 1.0);
     loc_bias_m_.resize(3, start_m.cols());
@@ -63,9 +62,21 @@ Swarm::Swarm(const ChannelModel& model, const Eigen::Matrix3Xd& start_m, const E
   }
 }
 
+double Swarm::next_normal() {
+  if (normal_used_ == static_cast<int>(normal_buffer_.size())) {
+    channel_.model().kernels().normals(normal_key_, normal_next_block_, normal_buffer_.data(), kNormalBlocks);
+    normal_next_block_ += kNormalBlocks;
+    normal_used_ = 0;
+  }
+  return normal_buffer_[static_cast<std::size_t>(normal_used_++)];
+}
+
 Eigen::Vector3d Swarm::gaussian(double sigma) {
   if (sigma == 0.0) return Eigen::Vector3d::Zero();
-  return Eigen::Vector3d(normal_(rng_), normal_(rng_), normal_(rng_)) * sigma;
+  const double x = next_normal();
+  const double y = next_normal();
+  const double z = next_normal();
+  return Eigen::Vector3d(x, y, z) * sigma;
 }
 
 Eigen::Vector3d Swarm::estimate_position(int m) {

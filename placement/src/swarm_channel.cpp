@@ -200,14 +200,10 @@ void UavObjective::objectives_at(const Eigen::Ref<const Eigen::Matrix3Xd>& q_m, 
   check_current();
   constexpr int kLanes = kernels::kLanes;
   const int first = with_current_row ? 1 : 0;
-  const int count = first + static_cast<int>(q_m.cols());
-  if (count < 1 || count > kLanes) {
-    throw std::invalid_argument("UavObjective::objectives_at: " + std::to_string(count) + " candidates, at most " +
-                                std::to_string(kLanes));
-  }
+  const int points = static_cast<int>(q_m.cols());
   if (uav_side()) {
     if (with_current_row) f[0] = uav_side_objective(swarm_->row_re(m_), swarm_->row_im(m_), nullptr);
-    for (int c = 0; c < static_cast<int>(q_m.cols()); ++c) f[first + c] = uav_side_objective_at(q_m.col(c));
+    for (int c = 0; c < points; ++c) f[first + c] = uav_side_objective_at(q_m.col(c));
     return;
   }
   const ChannelModel& model = swarm_->model();
@@ -215,28 +211,33 @@ void UavObjective::objectives_at(const Eigen::Ref<const Eigen::Matrix3Xd>& q_m, 
   thread_local std::vector<double> Xr, Xi;
   Xr.resize(static_cast<std::size_t>(ld) * kLanes);
   Xi.resize(static_cast<std::size_t>(ld) * kLanes);
-  // Unused lanes repeat the last candidate (its f is computed and dropped).
-  double px[kLanes], py[kLanes], pz[kLanes];
-  for (int p = 0; p < kLanes; ++p) {
-    const int c = p < first ? 0 : std::min<int>(p - first, static_cast<int>(q_m.cols()) - 1);
-    const bool have = q_m.cols() > 0;
-    px[p] = have ? q_m(0, c) : 0.0;
-    py[p] = have ? q_m(1, c) : 0.0;
-    pz[p] = have ? q_m(2, c) : 0.0;
-  }
-  model.kernels().rows_lanes(model.geometry(), px, py, pz, Xr.data(), Xi.data());
-  if (with_current_row) {
-    const double* re = swarm_->row_re(m_);
-    const double* im = swarm_->row_im(m_);
-    for (int k = 0; k < ld; ++k) {
-      Xr[static_cast<std::size_t>(k) * kLanes] = re[k];
-      Xi[static_cast<std::size_t>(k) * kLanes] = im[k];
+  // Pass p fills the lanes with candidates p * kLanes ... (the current row first in pass 0);
+  // every lane's value depends on that lane only, so passes agree with each other.
+  const int count = first + points;
+  for (int begin = 0; begin < count; begin += kLanes) {
+    const bool stay = with_current_row && begin == 0;
+    // Unused lanes repeat the last candidate (its f is computed and dropped).
+    double px[kLanes], py[kLanes], pz[kLanes];
+    for (int p = 0; p < kLanes; ++p) {
+      const int c = std::clamp(begin + p - first, 0, std::max(points - 1, 0));
+      px[p] = points > 0 ? q_m(0, c) : 0.0;
+      py[p] = points > 0 ? q_m(1, c) : 0.0;
+      pz[p] = points > 0 ? q_m(2, c) : 0.0;
     }
+    model.kernels().rows_lanes(model.geometry(), px, py, pz, Xr.data(), Xi.data());
+    if (stay) {
+      const double* re = swarm_->row_re(m_);
+      const double* im = swarm_->row_im(m_);
+      for (int k = 0; k < ld; ++k) {
+        Xr[static_cast<std::size_t>(k) * kLanes] = re[k];
+        Xi[static_cast<std::size_t>(k) * kLanes] = im[k];
+      }
+    }
+    double all[kLanes];
+    model.kernels().objectives_lanes(swarm_->gram_planes(), swarm_->row_re(m_), swarm_->row_im(m_), Xr.data(),
+                                     Xi.data(), all);
+    for (int p = 0; p < kLanes && begin + p < count; ++p) f[begin + p] = all[p];
   }
-  double all[kLanes];
-  model.kernels().objectives_lanes(swarm_->gram_planes(), swarm_->row_re(m_), swarm_->row_im(m_), Xr.data(),
-                                   Xi.data(), all);
-  for (int p = 0; p < count; ++p) f[p] = all[p];
 }
 
 }  // namespace losmimo::placement

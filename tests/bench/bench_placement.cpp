@@ -10,8 +10,11 @@
 // - IterationGd / IterationBf: one pass over every UAV under actuation error 0.02 m
 //   (sigma_loc 0.1 m for GD), including the per-iteration ICN check of run_placement.
 // - Icn: the exact eigen-solve, and icn_below's cheap proof that ICN < 0.95.
+// - UavsByRedundancy: the escapes' order of the UAVs (smallest eigenvector of G).
 
 #include <benchmark/benchmark.h>
+
+#include <Eigen/Eigenvalues>
 
 #include <chrono>
 #include <cmath>
@@ -20,6 +23,7 @@
 #include "losmimo/placement/bf.h"
 #include "losmimo/placement/gd.h"
 #include "losmimo/placement/run.h"
+#include "losmimo/placement/stall.h"
 #include "losmimo/placement/ura.h"
 
 namespace losmimo::placement {
@@ -111,6 +115,24 @@ void BM_Icn(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Icn)->ArgNames({"side", "bound"})->Args({4, 0})->Args({4, 1})->Args({8, 0})->Args({8, 1});
+
+// The escapes' redundancy order (Lanczos + a real tridiagonal solve), against Eigen's complex
+// Hermitian solver for the same smallest eigenvector (solver:1).
+void BM_UavsByRedundancy(benchmark::State& state) {
+  const Scenario s = scenario_with_side(static_cast<int>(state.range(0)));
+  const ChannelModel model(s);
+  const SwarmChannel channel(model, start_positions(s));
+  const bool eigen_solver = state.range(1) != 0;
+  for (auto _ : state) {
+    if (eigen_solver) {
+      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> eig(channel.gram());
+      benchmark::DoNotOptimize(eig.eigenvectors()(0, 0));
+    } else {
+      benchmark::DoNotOptimize(uavs_by_redundancy(channel));
+    }
+  }
+}
+BENCHMARK(BM_UavsByRedundancy)->ArgNames({"side", "solver"})->Args({4, 0})->Args({4, 1})->Args({8, 0})->Args({8, 1});
 
 // One planner iteration plus run_placement's ICN check, on a swarm kept away from the target
 // (it starts random and the errors keep it moving).

@@ -88,9 +88,16 @@ TEST(ChannelSweeps, FadingEvalDraws_ChangeOnlyTheReportedMetrics) {
     EXPECT_EQ(a[i].iterations, b[i].iterations) << a[i].algorithm;
     EXPECT_EQ(a[i].extra, b[i].extra) << a[i].algorithm;
     EXPECT_NE(a[i].final_icn, b[i].final_icn) << a[i].algorithm;
-    // AND the faded ICN is below the LoS one (scatter spreads the singular values)
-    EXPECT_LT(a[i].final_icn, a[i].extra[0]) << a[i].algorithm;
   }
+  // AND where the LoS channel is well conditioned (the URA's, ICN ~1) the faded ICN is below it:
+  // scatter spreads equal singular values (of an ill-conditioned channel it may raise the ICN)
+  int well_conditioned = 0;
+  for (const TrialRecord& r : a) {
+    if (r.extra[0] < 0.9) continue;
+    ++well_conditioned;
+    EXPECT_LT(r.final_icn, r.extra[0]) << r.algorithm;
+  }
+  EXPECT_GT(well_conditioned, 0);
 }
 
 TEST(ChannelSweeps, RicianK_ChangesTheMeasuringMoversAndTheReportedChannelOnly) {

@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
+#include "losmimo/placement/kernels.h"
 #include "losmimo/placement/swarm.h"
 
 namespace lp = losmimo::placement;
@@ -62,4 +64,22 @@ TEST(ErrorModel, NegativeOrNanSigma_IsRejectedNamingTheField) {
     EXPECT_NE(std::string(e.what()).find("sigma_loc_m"), std::string::npos);
   }
   EXPECT_THROW(lp::validate(lp::ErrorModel{0.0, std::nan("")}), std::invalid_argument);
+}
+
+TEST(ErrorModel, Draws_AreTheCounterBasedStreamOfTheSeed_ComputedByTheScalarReference) {
+  // GIVEN a swarm with seed 11 and 0.05 m actuation error, and the scalar reference kernels'
+  // normal numbers of stream 11 (a plain std::log / std::cos implementation)
+  const lp::Scenario s;
+  const lp::ChannelModel model(s);
+  const Eigen::Matrix3Xd q = Eigen::Matrix3Xd::Constant(3, 1, 0.0).colwise() + s.cube_center_m;
+  lp::Swarm swarm(model, q, {0.0, 0.05}, 11);
+  constexpr int kBlocks = 20;  // 320 numbers: past the swarm's 64-number buffer several times
+  std::vector<double> expected(16 * kBlocks);
+  lp::kernels::reference_kernels().normals(11, 0, expected.data(), kBlocks);
+  // WHEN it moves 100 times (three numbers per move)
+  for (int i = 0; i < 100; ++i) {
+    const Eigen::Vector3d actual = swarm.move(0, Eigen::Vector3d::Zero(), lp::MotionKind::kPlacement);
+    // THEN move i's error is 0.05 times numbers 3i .. 3i + 2 of the stream
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(actual(a), 0.05 * expected[3 * i + a], 1e-15) << i << " " << a;
+  }
 }

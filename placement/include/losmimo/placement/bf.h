@@ -5,6 +5,10 @@
 // its channel row (hence f with the others' broadcast rows) and flies back, each flight
 // subject to actuation error; it then moves by b_i times the probe of least measured f.
 // Probe flights are counted as probe distance, the final move as placement distance.
+// Evaluation: the six probes are flown first (their actuation errors drawn in flight order),
+// then their LoS rows and the "stay" value are evaluated in one pass (UavObjective::
+// objectives_at, a small complex matrix product); with channel conditions each probe is a
+// measurement taken in flight, one at a time. The escape's 80 probes go the same way.
 // ProbeActuation::kKeptMoveOnly reads the pseudocode's probe flights as exact: each probe
 // measures f at q_m + b z without an actuation error (and without a draw), and only the kept
 // move has one; the probe lengths are still counted.

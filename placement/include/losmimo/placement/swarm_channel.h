@@ -90,10 +90,11 @@ class UavObjective {
   // With `objective` set, also f at q_m (= objective_at(q_m), bit for bit) from the same row.
   Eigen::Vector3d gradient_at(const Eigen::Vector3d& q_m, double* objective = nullptr) const;
 
-  // f at up to kernels::kLanes candidates in one pass (kernels::objectives_lanes): the columns
-  // of q_m, after UAV m's current row if with_current_row (its "stay" value, f[0]); f has
-  // with_current_row + q_m.cols() entries. Values agree with objective_at to rounding, not to
-  // the bit: compare candidates of one call (or of calls of this function) with each other.
+  // f at the columns of q_m, after UAV m's current row if with_current_row (its "stay" value,
+  // f[0]), kernels::kLanes candidates per pass (kernels::objectives_lanes: one small complex
+  // matrix product); f has with_current_row + q_m.cols() entries. Values agree with
+  // objective_at to rounding, not to the bit: compare candidates of one call (or of calls of
+  // this function) with each other.
   void objectives_at(const Eigen::Ref<const Eigen::Matrix3Xd>& q_m, bool with_current_row, double* f) const;
 
   int uav() const { return m_; }
