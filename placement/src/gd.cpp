@@ -67,8 +67,13 @@ bool GradientDescentPlanner::try_escape(Swarm& swarm) {
 Eigen::Vector3d GradientDescentPlanner::plan_move(const Swarm& swarm, int m,
                                                   const Eigen::Vector3d& q_hat_m,
                                                   int iteration) const {
-  const UavObjective view(swarm.channel(), m);
-  const double b = options_.step * std::pow(options_.decay, iteration - 1);
+  return plan_step(swarm, m, q_hat_m, options_.step * std::pow(options_.decay, iteration - 1));
+}
+
+Eigen::Vector3d GradientDescentPlanner::plan_step(const Swarm& swarm, int m, const Eigen::Vector3d& q_hat_m,
+                                                  double b) const {
+  // f without the others' energy: only comparisons of UAV m's positions follow.
+  const UavObjective view(swarm.channel(), m, UavObjective::Energy::kWithoutOthers);
   double f0 = 0.0;  // f at q_hat_m, from the gradient's channel row (one row, Nt sincos, less)
   Eigen::Vector3d r = -b * view.gradient_at(q_hat_m, options_.backtracking ? &f0 : nullptr) / swarm.num_uavs();
   if (!r.allFinite()) return Eigen::Vector3d::Zero();
@@ -87,8 +92,9 @@ void GradientDescentPlanner::iterate(Swarm& swarm, int iteration) {
   Eigen::Matrix3Xd& q_hat = believed_m_;  // the estimates, then plus the moves: the belief
   q_hat.resize(3, nr);
   for (int m = 0; m < nr; ++m) q_hat.col(m) = swarm.estimate_position(m);
+  const double b = options_.step * std::pow(options_.decay, iteration - 1);
   for (int m = 0; m < nr; ++m) {
-    const Eigen::Vector3d r = plan_move(swarm, m, q_hat.col(m), iteration);
+    const Eigen::Vector3d r = plan_step(swarm, m, q_hat.col(m), b);
     swarm.move(m, r, MotionKind::kPlacement);
     q_hat.col(m) += r;
   }

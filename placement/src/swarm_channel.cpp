@@ -132,7 +132,8 @@ void SwarmChannel::refresh() {
   ++version_;
 }
 
-UavObjective::UavObjective(const SwarmChannel& swarm, int m) : swarm_(&swarm), m_(m), version_(swarm.version()) {
+UavObjective::UavObjective(const SwarmChannel& swarm, int m, Energy energy)
+    : swarm_(&swarm), m_(m), version_(swarm.version()), energy_(energy) {
   if (m < 0 || m >= swarm.num_uavs()) {
     throw std::out_of_range("UavObjective: UAV " + std::to_string(m) + " of " + std::to_string(swarm.num_uavs()));
   }
@@ -145,6 +146,7 @@ void UavObjective::check_current() const {
 }
 
 double UavObjective::leave_one_out_energy() const {
+  if (energy_ == Energy::kWithoutOthers) return 0.0;
   if (!have_F_A_) {
     F_A_ = uav_side() ? uav_side_others_energy()
                       : swarm_->model().kernels().leave_one_out_energy(swarm_->gram_planes(), swarm_->row_re(m_),
@@ -198,6 +200,10 @@ Eigen::Vector3d UavObjective::gradient_at(const Eigen::Vector3d& q_m, double* ob
 void UavObjective::objectives_at(const Eigen::Ref<const Eigen::Matrix3Xd>& q_m, bool with_current_row,
                                  double* f) const {
   check_current();
+  if (energy_ == Energy::kWithoutOthers) {
+    throw std::logic_error("UavObjective::objectives_at: the lanes kernel gives the whole f; build the view with "
+                           "Energy::kTotal");
+  }
   constexpr int kLanes = kernels::kLanes;
   const int first = with_current_row ? 1 : 0;
   const int points = static_cast<int>(q_m.cols());

@@ -85,6 +85,8 @@ class GradientDescentPlanner : public Planner {
                             int iteration) const;
 
  private:
+  // plan_move with the iteration's base step b = step * decay^(iteration - 1).
+  Eigen::Vector3d plan_step(const Swarm& swarm, int m, const Eigen::Vector3d& q_hat_m, double b) const;
   bool try_escape(Swarm& swarm);
 
   GdOptions options_;
