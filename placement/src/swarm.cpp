@@ -62,21 +62,11 @@ Swarm::Swarm(const ChannelModel& model, const Eigen::Matrix3Xd& start_m, const E
   }
 }
 
-double Swarm::next_normal() {
-  if (normal_used_ == static_cast<int>(normal_buffer_.size())) {
-    channel_.model().kernels().normals(normal_key_, normal_next_block_, normal_buffer_.data(), kNormalBlocks);
-    normal_next_block_ += kNormalBlocks;
-    normal_used_ = 0;
-  }
-  return normal_buffer_[static_cast<std::size_t>(normal_used_++)];
-}
-
-Eigen::Vector3d Swarm::gaussian(double sigma) {
-  if (sigma == 0.0) return Eigen::Vector3d::Zero();
-  const double x = next_normal();
-  const double y = next_normal();
-  const double z = next_normal();
-  return Eigen::Vector3d(x, y, z) * sigma;
+void Swarm::refill_normals() {
+  static_assert((kNormalBlocks * kNormalsPerBlock) % 3 == 0, "draws of three must not straddle a refill");
+  channel_.model().kernels().normals(normal_key_, normal_next_block_, normal_buffer_.data(), kNormalBlocks);
+  normal_next_block_ += kNormalBlocks;
+  normal_used_ = 0;
 }
 
 Eigen::Vector3d Swarm::estimate_position(int m) {

@@ -73,7 +73,7 @@ TEST(ErrorModel, Draws_AreTheCounterBasedStreamOfTheSeed_ComputedByTheScalarRefe
   const lp::ChannelModel model(s);
   const Eigen::Matrix3Xd q = Eigen::Matrix3Xd::Constant(3, 1, 0.0).colwise() + s.cube_center_m;
   lp::Swarm swarm(model, q, {0.0, 0.05}, 11);
-  constexpr int kBlocks = 20;  // 320 numbers: past the swarm's 64-number buffer several times
+  constexpr int kBlocks = 20;  // 320 numbers: past the swarm's 192-number buffer
   std::vector<double> expected(16 * kBlocks);
   lp::kernels::reference_kernels().normals(11, 0, expected.data(), kBlocks);
   // WHEN it moves 100 times (three numbers per move)

@@ -13,8 +13,7 @@
 // that stays for the whole run), from a generator of its own seeded from the swarm's seed.
 // The stream is counter-based (kernels.h, normals, keyed by the swarm's seed): its i-th number
 // depends on (seed, i) only, the same on every instruction set, and it comes 16 per vector
-// block, ~60 times faster than std::normal_distribution over std::mt19937_64. A zero sigma
-// draws nothing.
+// block. A zero sigma draws nothing.
 // Distances: the true straight-line lengths flown, and the commanded lengths |r|, placement
 // moves and BF probe motions kept apart.
 //
@@ -137,14 +136,22 @@ class Swarm {
 
 
  private:
-  Eigen::Vector3d gaussian(double sigma);
-  double next_normal();
+  // sigma times the next three numbers of the stream (zero, drawing nothing, if sigma is 0).
+  Eigen::Vector3d gaussian(double sigma) {
+    if (sigma == 0.0) return Eigen::Vector3d::Zero();
+    if (normal_used_ == static_cast<int>(normal_buffer_.size())) refill_normals();
+    const double* n = normal_buffer_.data() + normal_used_;
+    normal_used_ += 3;
+    return Eigen::Vector3d(n[0], n[1], n[2]) * sigma;
+  }
+  void refill_normals();
 
   Eigen::Matrix3Xd q_m_;
   SwarmChannel channel_;
   ErrorModel errors_;
-  // The counter-based stream: the next kNormalBlocks blocks are buffered.
-  static constexpr int kNormalBlocks = 4;
+  // The counter-based stream: the next kNormalBlocks blocks are buffered, a multiple of three
+  // numbers, so that every draw of three lies within one refill.
+  static constexpr int kNormalBlocks = 12;
   static constexpr int kNormalsPerBlock = 16;
   std::uint64_t normal_key_;
   std::uint64_t normal_next_block_ = 0;
