@@ -29,6 +29,7 @@
 #include "losmimo/placement/kernels.h"
 #include "losmimo/placement/swarm_channel.h"
 #include "peak_flops.h"
+#include "support/scenarios.h"
 
 namespace losmimo::placement {
 namespace {
@@ -105,13 +106,7 @@ struct Inputs {
     q = start.col(3);
     F_A = lk::reference_kernels().leave_one_out_energy(gram(), or_.data(), oi.data());
   }
-  static Scenario make_scenario(int side) {
-    Scenario s;
-    s.bs_rows = side;
-    s.bs_cols = side;
-    s.num_uavs = side * side;
-    return s;
-  }
+  static Scenario make_scenario(int side) { return test_support::square_array_scenario(side); }
   lk::GramPlanes gram() const { return {model.num_antennas(), lk::padded(model.num_antennas()), gr.data(), gi.data()}; }
   int n() const { return model.num_antennas(); }
   int ld() const { return lk::padded(n()); }

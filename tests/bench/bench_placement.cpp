@@ -25,19 +25,14 @@
 #include "losmimo/placement/run.h"
 #include "losmimo/placement/stall.h"
 #include "losmimo/placement/ura.h"
+#include "support/scenarios.h"
 
 namespace losmimo::placement {
 namespace {
 
 constexpr std::uint64_t kSeed = 7;
 
-Scenario scenario_with_side(int side) {
-  Scenario s;
-  s.bs_rows = side;
-  s.bs_cols = side;
-  s.num_uavs = side * side;
-  return s;
-}
+Scenario scenario_with_side(int side) { return test_support::square_array_scenario(side); }
 
 Eigen::Matrix3Xd start_positions(const Scenario& s) {
   std::mt19937_64 rng(kSeed);

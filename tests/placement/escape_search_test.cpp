@@ -9,6 +9,7 @@
 #include <set>
 
 #include "losmimo/placement/stall.h"
+#include "support/scenarios.h"
 
 namespace losmimo::placement {
 namespace {
@@ -18,13 +19,7 @@ Eigen::Matrix3Xd random_start(const Scenario& s, std::uint64_t seed) {
   return random_start_positions_m(s, rng);
 }
 
-Scenario with_side(int side) {
-  Scenario s;
-  s.bs_rows = side;
-  s.bs_cols = side;
-  s.num_uavs = side * side;
-  return s;
-}
+Scenario with_side(int side) { return test_support::square_array_scenario(side); }
 
 TEST(UavsByRedundancy, OrdersByTheSmallestLeftSingularVector) {
   int separated = 0;

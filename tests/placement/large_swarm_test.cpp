@@ -13,19 +13,14 @@
 #include "losmimo/placement/metrics.h"
 #include "losmimo/placement/settings.h"
 #include "losmimo/placement/ura.h"
+#include "support/scenarios.h"
 
 namespace lp = losmimo::placement;
 
 namespace {
 constexpr double kTargetIcn = 0.95;
 
-lp::Scenario square_array(int side) {
-  lp::Scenario s;
-  s.bs_rows = side;
-  s.bs_cols = side;
-  s.num_uavs = side * side;
-  return s;
-}
+lp::Scenario square_array(int side) { return losmimo::test_support::square_array_scenario(side); }
 
 struct UraOutcome {
   double icn = 0.0;
