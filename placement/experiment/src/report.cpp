@@ -4,6 +4,8 @@
 #include "losmimo/experiment/paths.h"
 #include "losmimo/experiment/readings.h"
 #include "losmimo/experiment/report.h"
+
+#include "losmimo/experiment/shards.h"
 #include "losmimo/placement/ura.h"
 
 #include <cmath>
@@ -134,12 +136,7 @@ std::string describe(const RunTiming& t) {
   if (t.shard_isas.size() == 1) {
     o << "; " << t.shard_isas.begin()->first << " kernels";
   } else if (t.shard_isas.size() > 1) {
-    o << "; kernels";
-    const char* sep = " ";
-    for (const auto& [isa, n] : t.shard_isas) {
-      o << sep << isa << " in " << n << (n == 1 ? " shard" : " shards");
-      sep = ", ";
-    }
+    o << "; kernels " << isa_counts(t.shard_isas, "shard");
   }
   return o.str();
 }

@@ -112,13 +112,18 @@ void add_shard_timing(const common::IniConfig& shard_ini, RunTiming& timing) {
   timing.max_shard_threads = std::max(timing.max_shard_threads, threads);
 }
 
-std::string mixed_isa_note(const std::map<std::string, int>& parts_per_isa, const std::string& part) {
-  if (parts_per_isa.size() < 2) return "";
+std::string isa_counts(const std::map<std::string, int>& parts_per_isa, const std::string& part) {
   std::string ran;
   for (const auto& [isa, n] : parts_per_isa) {
     ran += (ran.empty() ? "" : ", ") + isa + " in " + std::to_string(n) + " " + part + (n == 1 ? "" : "s");
   }
-  return "the " + part + "s ran the placement kernels on different instruction sets (" + ran +
+  return ran;
+}
+
+std::string mixed_isa_note(const std::map<std::string, int>& parts_per_isa, const std::string& part) {
+  if (parts_per_isa.size() < 2) return "";
+  return "the " + part + "s ran the placement kernels on different instruction sets (" +
+         isa_counts(parts_per_isa, part) +
          "): the kernels give the same bits on each, but the C library picks its exp/log/sin variants by "
          "CPU, so across machine kinds the merged metrics agree with a one-machine run to 1e-9 relative, "
          "not necessarily to the bit";

@@ -31,6 +31,8 @@ ExperimentResults merge_shard_records(const ExperimentSettings& settings, const 
 // naming the key and value on a bad one.
 void add_shard_timing(const common::IniConfig& shard_ini, RunTiming& timing);
 
+// Which instruction set ran how many parts, in name order: "sse2 in 1 shard, avx512 in 3 shards".
+std::string isa_counts(const std::map<std::string, int>& parts_per_isa, const std::string& part);
 // "" when every part of a run (`part`: "shard", or "rank" under MPI) ran the kernels on the same
 // instruction set (`parts_per_isa`: name -> parts); else what the user should know: the kernels
 // give the same bits on each (kernels.h), the C library's math may not, so the merged results
