@@ -136,6 +136,17 @@ void gram_update(double* G_re, double* G_im, int n, int ld, const double* xr, co
   }
 }
 
+void gram_of_rows(const double* Hr, const double* Hi, int nr, int n, int ld, double* G_re, double* G_im) {
+  for (int k = 0; k < n; ++k) {
+    for (int l = 0; l < ld; ++l) {
+      cd sum = 0.0;
+      for (int m = 0; m < nr; ++m) sum += std::conj(at(Hr + m * ld, Hi + m * ld, l)) * at(Hr + m * ld, Hi + m * ld, k);
+      G_re[l + k * ld] = sum.real();
+      G_im[l + k * ld] = sum.imag();
+    }
+  }
+}
+
 void hermitian_matvec(const GramPlanes& G, const double* vr, const double* vi, double* yr, double* yi) {
   for (int l = 0; l < G.ld; ++l) {
     cd sum = 0.0;
@@ -170,7 +181,7 @@ void normals(std::uint64_t key, std::uint64_t first_block, double* out, int bloc
 const Kernels& reference_kernels() {
   static const Kernels table = {Isa::kSse2,          &unit_phasors, &row,        &rows_lanes,
                                 &leave_one_out_energy, &objectives_lanes, &objective_of_row, &objective_at,
-                                &gradient,           &gram_update,  &hermitian_matvec, &normals};
+                                &gradient,           &gram_update,  &gram_of_rows, &hermitian_matvec, &normals};
   return table;
 }
 

@@ -1,6 +1,5 @@
 #include "losmimo/placement/run.h"
 
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -11,7 +10,6 @@
 
 #include "losmimo/common/range.h"
 #include "losmimo/placement/metrics.h"
-#include "lanczos.h"
 
 namespace losmimo::placement {
 
@@ -91,72 +89,6 @@ double icn_from_gram(const Eigen::MatrixXcd& G, int num_rows) {
 }
 
 namespace {
-// Cholesky of G - sI fails only if lambda_min(G - sI) <= c n^2 eps ||G||: so a failure with
-// this margin (far above that rounding) proves lambda_min(G) < s.
-bool cholesky_fails(const Eigen::MatrixXcd& G, double s) {
-  // Eigen's unblocked factorisation, in per-thread scratch (no allocation): the public
-  // Eigen::LLT also computes an L1 norm with one hypot per entry and, on the real embedding
-  // of a 16 x 16 G, takes its blocked path; both cost more than the factorisation (2.9 us
-  // against 0.64 us here). unblocked() returns -1 when the factorisation succeeds.
-  thread_local Eigen::MatrixXcd M;
-  M = G;
-  M.diagonal().array() -= s;
-  return Eigen::internal::llt_inplace<std::complex<double>, Eigen::Lower>::unblocked(M) >= 0;
-}
-}  // namespace
-
-bool icn_below(const Eigen::MatrixXcd& G, int num_rows, double threshold, Eigen::VectorXcd* warm_start) {
-  if (num_rows < G.cols() || G.size() == 0) return threshold > 0.0;  // ICN is 0
-  if (!G.allFinite() || !(threshold > 0.0)) return false;
-  const Eigen::Index n = G.cols();
-  const double trace = G.diagonal().real().sum();
-  const double margin = 1e-8 * trace;  // >> the rounding of what follows (~n^2 eps trace)
-  const double t2 = threshold * threshold;
-  const double max_diag = G.diagonal().real().maxCoeff();
-
-  // Stage 1: two power iterations from the warm start (the previous call's vector: G changes
-  // little between iterations) give a Rayleigh quotient <= lambda_max; then Cholesky.
-  constexpr int kPowerIterations = 2;
-  Eigen::VectorXcd v;
-  if (warm_start && warm_start->size() == n && warm_start->allFinite() && warm_start->squaredNorm() > 0.0) {
-    v = *warm_start;
-  } else {
-    v = G.rowwise().sum();  // any start; the warm start takes over from the next call
-  }
-  double lambda_lo = max_diag;
-  for (int i = 0; i < kPowerIterations; ++i) {
-    const double vv = v.squaredNorm();
-    if (!(vv > 0.0)) return false;
-    const Eigen::VectorXcd Gv = G * v;
-    lambda_lo = std::max(lambda_lo, v.dot(Gv).real() / vv);
-    v = Gv / std::sqrt(Gv.squaredNorm());
-  }
-  if (!v.allFinite()) return false;
-  if (warm_start) *warm_start = v;
-  const double s1 = t2 * (lambda_lo - margin) - margin;
-  if (s1 > 0.0 && cholesky_fails(G, s1)) return true;
-
-  // Stage 2: Lanczos (full reorthogonalisation) from G's heaviest column (not from v, which
-  // may nearly be an eigenvector, a one-dimensional Krylov space): the extreme Ritz values satisfy
-  // theta_max <= lambda_max and theta_min >= lambda_min (to a few eps ||G||), and theta_max
-  // converges fast even when the top of the spectrum is clustered.
-  thread_local Eigen::MatrixXcd V;
-  thread_local Eigen::VectorXd alpha, beta;
-  const Eigen::Index k = detail::lanczos(G, 8, V, alpha, beta);
-  if (k == 0) return false;
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz;
-  Eigen::VectorXd diag = alpha.head(k);
-  Eigen::VectorXd sub = beta.head(k - 1);
-  ritz.computeFromTridiagonal(diag, sub, Eigen::EigenvaluesOnly);
-  const double theta_min = ritz.eigenvalues()(0);
-  const double theta_max = std::max(ritz.eigenvalues()(k - 1), lambda_lo);
-  const double s2 = t2 * (theta_max - margin) - margin;
-  if (!(s2 > 0.0)) return false;
-  if (theta_min + margin < s2) return true;
-  return s2 > s1 && cholesky_fails(G, s2);
-}
-
-namespace {
 
 const Eigen::VectorXd& placement_distances(const Swarm& swarm, const RunOptions& options) {
   return options.distance == DistanceKind::kCommanded ? swarm.commanded_placement_distance_m()
@@ -168,14 +100,14 @@ const Eigen::VectorXd& probe_distances(const Swarm& swarm, const RunOptions& opt
 }
 
 IterationRecord record(const Swarm& swarm, int iteration, const RunOptions& options,
-                       double proven_below, Eigen::VectorXcd& icn_warm_start) {
+                       double proven_below, IcnWarmStart& icn_warm_start) {
   IterationRecord r;
   r.iteration = iteration;
   const SwarmChannel& ch = swarm.channel();
   // With channel conditions every iteration is evaluated in full: the shortcut's thresholds are
   // the milestones', which then come from another matrix.
   const bool conditions = swarm.channel_conditions().active();
-  r.icn = !conditions && proven_below > 0.0 && icn_below(ch.gram(), ch.num_uavs(), proven_below, &icn_warm_start)
+  r.icn = !conditions && proven_below > 0.0 && icn_below(ch, proven_below, &icn_warm_start)
               ? std::numeric_limits<double>::quiet_NaN()
               : icn_from_gram(ch.gram(), ch.num_uavs());
   r.icn_los = conditions ? inverse_condition_number(ch.model().matrix(swarm.true_positions_m())) : r.icn;
@@ -217,7 +149,7 @@ RunResult run_placement(Planner& planner, Swarm& swarm, const RunOptions& option
   result.start_m = swarm.true_positions_m();
   planner.start(swarm);
 
-  Eigen::VectorXcd icn_warm_start;  // icn_below's top eigenvector estimate, kept across iterations
+  IcnWarmStart icn_warm_start;  // icn_below's eigenvector estimates, kept across iterations
   const auto observe = [&](int iteration) {
     // The smallest ICN that would change anything: skip the eigen-solve below it if allowed.
     double pending = options.target_icn;

@@ -118,6 +118,14 @@ void Swarm::sync_channel(int m) {
   channel_.set_row(m, row);
 }
 
+void Swarm::sync_channels() {
+  if (!conditions_.active()) {
+    channel_.set_positions(q_m_);
+    return;
+  }
+  for (int m = 0; m < num_uavs(); ++m) sync_channel(m);
+}
+
 void Swarm::set_channel_conditions(const ChannelConditions& conditions) {
   if (conditions.active() &&
       (conditions.num_uavs() != num_uavs() || conditions.num_antennas() != channel_.model().num_antennas())) {

@@ -11,6 +11,20 @@ namespace losmimo::placement {
 namespace {
 // Rank-one updates drift by ~1e-16 relative each; a periodic exact rebuild bounds it.
 constexpr int kRefreshEvery = 256;
+
+// Every entry finite: x * 0 is 0 for a finite x and NaN for inf or NaN. Eight independent
+// sums, which the compiler vectorises (a loop that stops at the first bad entry does not).
+bool all_finite(const std::vector<double>& values) {
+  double sums[8] = {};
+  std::size_t i = 0;
+  for (; i + 8 <= values.size(); i += 8) {
+    for (int j = 0; j < 8; ++j) sums[j] += values[i + j] * 0.0;
+  }
+  for (; i < values.size(); ++i) sums[0] += values[i] * 0.0;
+  double total = 0.0;
+  for (const double s : sums) total += s;
+  return total == 0.0;
+}
 }  // namespace
 
 SwarmChannel::SwarmChannel(const ChannelModel& model, const Eigen::Matrix3Xd& q_m)
@@ -57,11 +71,7 @@ const Eigen::MatrixXcd& SwarmChannel::gram() const {
 
 bool SwarmChannel::gram_is_finite() const {
   if (side_ == GramSide::kUavs) return uav_gram_.allFinite();
-  bool finite = true;
-  for (std::size_t i = 0; i < gram_re_.size(); ++i) {
-    finite = finite && std::isfinite(gram_re_[i]) && std::isfinite(gram_im_[i]);
-  }
-  return finite;
+  return all_finite(gram_re_) && all_finite(gram_im_);
 }
 
 double SwarmChannel::objective() const {
@@ -88,6 +98,47 @@ void SwarmChannel::set_row(int m, const Eigen::VectorXcd& x) {
     im[k] = x(k).imag();
   }
   replace_row(m, re.data(), im.data());
+}
+
+void SwarmChannel::set_positions(const Eigen::Matrix3Xd& q_m) {
+  const int nr = num_uavs(), nt = model_->num_antennas();
+  if (q_m.cols() != nr) {
+    throw std::invalid_argument("SwarmChannel::set_positions: " + std::to_string(q_m.cols()) + " positions for " +
+                                std::to_string(nr) + " UAVs");
+  }
+  // kLanes rows per rows_lanes call (the same bits as one row at a time, ~1.5x cheaper per row).
+  constexpr int kLanes = kernels::kLanes;
+  thread_local std::vector<double> Xr, Xi;
+  Xr.resize(static_cast<std::size_t>(ld_) * kLanes);
+  Xi.resize(static_cast<std::size_t>(ld_) * kLanes);
+  for (int first = 0; first < nr; first += kLanes) {
+    double px[kLanes], py[kLanes], pz[kLanes];
+    for (int p = 0; p < kLanes; ++p) {
+      const int m = std::min(first + p, nr - 1);  // unused lanes repeat the last UAV
+      px[p] = q_m(0, m);
+      py[p] = q_m(1, m);
+      pz[p] = q_m(2, m);
+    }
+    model_->kernels().rows_lanes(model_->geometry(), px, py, pz, Xr.data(), Xi.data());
+    for (int p = 0; p < kLanes && first + p < nr; ++p) {
+      const int m = first + p;
+      double* re = row_re_.data() + static_cast<std::ptrdiff_t>(m) * ld_;
+      double* im = row_im_.data() + static_cast<std::ptrdiff_t>(m) * ld_;
+      for (int k = 0; k < ld_; ++k) {
+        re[k] = Xr[static_cast<std::size_t>(k) * kLanes + p];
+        im[k] = Xi[static_cast<std::size_t>(k) * kLanes + p];
+      }
+      for (int k = 0; k < nt; ++k) H_(m, k) = std::complex<double>(re[k], im[k]);
+    }
+  }
+  if (side_ == GramSide::kUavs) {
+    rebuild_uav_gram();
+  } else {
+    model_->kernels().gram_of_rows(row_re_.data(), row_im_.data(), nr, nt, ld_, gram_re_.data(), gram_im_.data());
+  }
+  gram_stale_ = true;
+  updates_since_refresh_ = 0;
+  ++version_;
 }
 
 void SwarmChannel::replace_row(int m, const double* re, const double* im) {

@@ -190,15 +190,17 @@ void UraPlanner::iterate(Swarm& swarm, int iteration) {
       start_sum_m_.col(m) += swarm.estimate_position(m) - commanded_sum_m_.col(m);
       const Eigen::Vector3d q_hat = start_sum_m_.col(m) / estimates_ + commanded_sum_m_.col(m);
       const Eigen::Vector3d r = targets_m_.col(m) - q_hat;
-      swarm.move(m, r, MotionKind::kPlacement);
+      swarm.move(m, r, MotionKind::kPlacement, false);
       commanded_sum_m_.col(m) += r;
     }
-    return;
+  } else {
+    for (int m = 0; m < swarm.num_uavs(); ++m) {
+      const Eigen::Vector3d q_hat = swarm.estimate_position(m);
+      swarm.move(m, targets_m_.col(m) - q_hat, MotionKind::kPlacement, false);
+    }
   }
-  for (int m = 0; m < swarm.num_uavs(); ++m) {
-    const Eigen::Vector3d q_hat = swarm.estimate_position(m);
-    swarm.move(m, targets_m_.col(m) - q_hat, MotionKind::kPlacement);
-  }
+  // No UAV measures the channel during the iteration: every row and G at once, at the end.
+  swarm.sync_channels();
 }
 
 }  // namespace losmimo::placement

@@ -14,7 +14,8 @@
 //     pair l < k, 8 lanes) + 6 n kLanes: 38 n^2 + 96 n;
 //   BF UAV step = rows_lanes + objectives_lanes: 440 n + 38 n^2 + 96 n;
 //   objective_of_row: 8 n^2 (conj(G) x) + 36 n; objective_at: + 55 n; gradient: + 30 n more;
-//   gram_update: 14 n^2; leave_one_out_energy: 12 n^2; hermitian_matvec: 8 n^2;
+//   gram_update: 14 n^2; gram_of_rows: 8 n^2 nr (nr = n rows); leave_one_out_energy: 12 n^2;
+//   hermitian_matvec: 8 n^2;
 //   normals: 83 per pair (log 31, sincos 45, the rest 7).
 // BM_MemoryRead: read bandwidth for a working set, to judge the Nt = 256 kernels, whose
 // Gram matrix (2 planes x 256 x 256 doubles = 1 MiB) no longer fits this core's L1/L2.
@@ -77,11 +78,11 @@ const lk::Kernels* kernels_of(benchmark::State& state, int arg = 1) {
 }
 
 // A random swarm of side^2 UAVs on a side x side BS array (the paper's geometry), its Gram
-// matrix in split planes, and UAV 3's row.
+// matrix in split planes, every row (hr, hi: row m at m ld), and UAV 3's row.
 struct Inputs {
   Scenario scenario;
   ChannelModel model;
-  std::vector<double> gr, gi, or_, oi;
+  std::vector<double> gr, gi, hr, hi, or_, oi;
   double F_A = 0.0;
   Eigen::Vector3d q;
   explicit Inputs(int side) : scenario(make_scenario(side)), model(scenario) {
@@ -97,6 +98,8 @@ struct Inputs {
         gi[l + k * ld] = channel.gram()(l, k).imag();
       }
     }
+    hr.assign(channel.row_re(0), channel.row_re(0) + static_cast<std::ptrdiff_t>(ld) * channel.num_uavs());
+    hi.assign(channel.row_im(0), channel.row_im(0) + static_cast<std::ptrdiff_t>(ld) * channel.num_uavs());
     or_.assign(ld, 0.0);
     oi.assign(ld, 0.0);
     for (int k = 0; k < n; ++k) {
@@ -294,6 +297,19 @@ void BM_Kernel_GramUpdate(benchmark::State& state) {
   set_flop_counters(state, k->isa, 14.0 * n * n);
 }
 BENCHMARK(BM_Kernel_GramUpdate)->Apply(KernelArgs);
+
+void BM_Kernel_GramOfRows(benchmark::State& state) {
+  const lk::Kernels* k = kernels_of(state);
+  if (!k) return;
+  Inputs in(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    k->gram_of_rows(in.hr.data(), in.hi.data(), in.n(), in.n(), in.ld(), in.gr.data(), in.gi.data());
+    benchmark::ClobberMemory();
+  }
+  const double n = in.n();
+  set_flop_counters(state, k->isa, 8.0 * n * n * n);
+}
+BENCHMARK(BM_Kernel_GramOfRows)->Apply(KernelArgs);
 
 void BM_Kernel_HermitianMatvec(benchmark::State& state) {
   const lk::Kernels* k = kernels_of(state);

@@ -7,8 +7,9 @@
 //   the others fixed (one Nt x Nt Hermitian form); items/s = probes/s.
 // - Gradient: GD's grad f of one UAV at a believed position (O(Nt^2)).
 // - UavObjective: the leave-one-out view each UAV builds once per turn (O(Nt^2)).
-// - IterationGd / IterationBf: one pass over every UAV under actuation error 0.02 m
-//   (sigma_loc 0.1 m for GD), including the per-iteration ICN check of run_placement.
+// - IterationGd / IterationBf / IterationUra: one pass over every UAV under actuation error 0.02 m
+//   (sigma_loc 0.1 m for GD; 0.1 m for the URA, which 0.02 m leaves above ICN 0.95), including
+//   the per-iteration ICN check of run_placement.
 // - Icn: the exact eigen-solve, and icn_below's cheap proof that ICN < 0.95.
 // - UavsByRedundancy: the escapes' order of the UAVs (smallest eigenvector of G).
 
@@ -139,11 +140,11 @@ void iterate(benchmark::State& state, const ErrorModel& errors, MakePlanner make
   auto planner = make_planner(s);
   planner.start(swarm);
   int iteration = 0;
-  Eigen::VectorXcd warm_start;
+  IcnWarmStart warm_start;
   for (auto _ : state) {
     planner.iterate(swarm, ++iteration);
     const SwarmChannel& ch = swarm.channel();
-    if (!icn_below(ch.gram(), ch.num_uavs(), 0.95, &warm_start)) {
+    if (!icn_below(ch, 0.95, &warm_start)) {
       benchmark::DoNotOptimize(icn_from_gram(ch.gram(), ch.num_uavs()));
     }
   }
@@ -159,6 +160,11 @@ void BM_IterationBf(benchmark::State& state) {
   iterate(state, ErrorModel{0.0, 0.02}, [](const Scenario& s) { return BruteForcePlanner(s, BfOptions{}); });
 }
 BENCHMARK(BM_IterationBf)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond);
+
+void BM_IterationUra(benchmark::State& state) {
+  iterate(state, ErrorModel{0.0, 0.1}, [](const Scenario& s) { return UraPlanner(s, UraVariant::kRigid); });
+}
+BENCHMARK(BM_IterationUra)->Arg(4)->Arg(8)->Unit(benchmark::kMicrosecond);
 
 // A 256-UAV swarm (BS 16 x 16) from a random start in the 50 m cube to ICN 0.95, without
 // errors: wall time, iterations and the mean travel per UAV as counters.

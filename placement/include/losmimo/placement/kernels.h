@@ -92,6 +92,10 @@ struct Kernels {
   // conjugate of entry (l, k), so G stays Hermitian bit for bit.
   void (*gram_update)(double* G_re, double* G_im, int n, int ld, const double* xr, const double* xi,
                       const double* or_, const double* oi);
+  // G = sum_m conj(h_m) h_m^T of the nr rows h_m = (Hr + m ld, Hi + m ld), the whole n x n
+  // matrix, each entry summed in row order (m = 0 first): entry (k, l) is exactly the
+  // conjugate of entry (l, k). For a swarm whose every row changed (no rank updates).
+  void (*gram_of_rows)(const double* Hr, const double* Hi, int nr, int n, int ld, double* G_re, double* G_im);
   // y = G v.
   void (*hermitian_matvec)(const GramPlanes& G, const double* vr, const double* vi, double* yr, double* yi);
   // Standard normal numbers of the counter-based stream `key`: blocks first_block ..

@@ -160,13 +160,25 @@ std::optional<PlannerFault> check_finite(const Swarm& swarm);
 // Cheaper than the SVD of H (Nt x Nt eigenproblem) and equal to it above ~1e-6.
 double icn_from_gram(const Eigen::MatrixXcd& G, int num_rows);
 
-// true only if ICN(G) < threshold is proven, without an eigen-solve: lambda_max >= L (a
-// Rayleigh quotient after two power iterations, then if needed the largest Ritz value of 8
-// Lanczos steps), and lambda_min < s = threshold^2 L (less a margin far above the rounding
-// error) shown by a failed Cholesky factorisation of G - s I or by the smallest Ritz value.
-// false means "not proven" (then use icn_from_gram). warm_start (optional, in/out): the power
-// iteration's vector, to pass again at the next, slightly changed G.
-bool icn_below(const Eigen::MatrixXcd& G, int num_rows, double threshold,
-               Eigen::VectorXcd* warm_start = nullptr);
+// icn_below's vectors, kept across calls on a slowly changing G (one run's iterations):
+// estimates of the eigenvectors of G's largest and smallest eigenvalues. Empty at first.
+struct IcnWarmStart {
+  Eigen::VectorXcd top;
+  Eigen::VectorXcd bottom;
+};
+
+// true only if ICN(G) < threshold is proven, without an eigen-solve. First (with warm vectors)
+// the Rayleigh quotients R(top) <= lambda_max and R(bottom) >= lambda_min: R(bottom) <
+// threshold^2 R(top), with a margin far above the rounding error, proves it in two
+// matrix-vector products. Else lambda_max >= L (a Rayleigh quotient after two power
+// iterations, then if needed the largest Ritz value of 8 Lanczos steps), and lambda_min <
+// s = threshold^2 L (less the margin) shown by a failed Cholesky factorisation of G - s I or
+// by the smallest Ritz value. false means "not proven" (then use icn_from_gram). warm (optional,
+// in/out): every call advances both vectors by one power step (the bottom one of the shifted
+// matrix L I - G), so they follow G from call to call.
+bool icn_below(const Eigen::MatrixXcd& G, int num_rows, double threshold, IcnWarmStart* warm = nullptr);
+// The same proof on a swarm's cached Gram matrix, its products by the kernels'
+// hermitian_matvec (the dense G is converted only if the products do not settle it).
+bool icn_below(const SwarmChannel& channel, double threshold, IcnWarmStart* warm = nullptr);
 
 }  // namespace losmimo::placement

@@ -98,6 +98,9 @@ class Swarm {
   Eigen::VectorXcd measure_row(int m) const { return channel_.model().row(q_m_.col(m)); }
   // Brings UAV m's cached row up to date: its LoS row, or with active conditions a measurement.
   void sync_channel(int m);
+  // sync_channel for every UAV, in UAV order: without conditions all rows and the Gram matrix
+  // at once (SwarmChannel::set_positions), with conditions one measurement per UAV.
+  void sync_channels();
 
   // Rician fading and CSI noise; the swarm keeps a copy. Active conditions (sized Nr x Nt)
   // re-measure every row at once: the master's first broadcast.

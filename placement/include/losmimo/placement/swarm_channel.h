@@ -44,6 +44,10 @@ class SwarmChannel {
   // Replaces UAV m's row by its channel at q_m (O(Nt^2) update of the Gram matrix).
   void set_position(int m, const Eigen::Vector3d& q_m);
   void set_row(int m, const Eigen::VectorXcd& x);
+  // Every UAV's row at once, at the columns of q_m (3 x Nr), and G rebuilt from the rows
+  // (kernels gram_of_rows: O(Nr Nt^2), no rank updates): for moves of the whole swarm that
+  // nothing measures in between (the URA baseline). std::invalid_argument on a wrong size.
+  void set_positions(const Eigen::Matrix3Xd& q_m);
   // Recomputes the Gram matrix from H (clears accumulated rounding).
   void refresh();
 
@@ -54,7 +58,7 @@ class SwarmChannel {
   const double* row_im(int m) const { return row_im_.data() + static_cast<std::ptrdiff_t>(m) * ld_; }
   // True if every entry of G is finite.
   bool gram_is_finite() const;
-  // Changes with every set_position, set_row and refresh: a UavObjective checks it is current.
+  // Changes with every set_position(s), set_row and refresh: a UavObjective checks it is current.
   std::uint64_t version() const { return version_; }
 
  private:

@@ -1,0 +1,174 @@
+// icn_below (run.h): the cheap proof that ICN(G) < threshold, on an Eigen matrix or on a
+// swarm's cached Gram matrix (whose products go through the kernels' hermitian_matvec).
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "losmimo/placement/run.h"
+#include "lanczos.h"
+
+namespace losmimo::placement {
+
+namespace {
+// Cholesky of G - sI fails only if lambda_min(G - sI) <= c n^2 eps ||G||: so a failure with
+// this margin (far above that rounding) proves lambda_min(G) < s. On a failure at pivot k,
+// *witness (if given) gets z = (-L11^-H r^H, 1, 0 ...), r the computed part of L's row k, for
+// which z^H (G - sI) z is that pivot (<= 0): a vector with Rayleigh quotient <= s.
+bool cholesky_fails(const Eigen::MatrixXcd& G, double s, Eigen::VectorXcd* witness = nullptr) {
+  // Eigen's unblocked factorisation, in per-thread scratch (no allocation): the public
+  // Eigen::LLT also computes an L1 norm with one hypot per entry and, on the real embedding
+  // of a 16 x 16 G, takes its blocked path; both cost more than the factorisation (2.9 us
+  // against 0.64 us here). unblocked() returns -1 when the factorisation succeeds.
+  thread_local Eigen::MatrixXcd M;
+  M = G;
+  M.diagonal().array() -= s;
+  const Eigen::Index k = Eigen::internal::llt_inplace<std::complex<double>, Eigen::Lower>::unblocked(M);
+  if (k < 0) return false;
+  if (witness) {
+    witness->setZero(G.cols());
+    (*witness)(k) = 1.0;
+    if (k > 0) {
+      Eigen::VectorXcd head = -M.row(k).head(k).adjoint();
+      M.topLeftCorner(k, k).triangularView<Eigen::Lower>().adjoint().solveInPlace(head);
+      witness->head(k) = head;
+    }
+  }
+  return true;
+}
+
+// v / |v| into out, or false if |v| is zero or not finite.
+bool normalized_into(const Eigen::VectorXcd& v, Eigen::VectorXcd& out) {
+  const double norm = v.norm();
+  if (!(norm > 0.0) || !std::isfinite(norm)) return false;
+  out = v / norm;
+  return true;
+}
+
+// What the proof needs of G: its real diagonal, y = G x, whether every entry is finite, and
+// the dense matrix (Cholesky, Lanczos), asked for only when the products did not settle it.
+template <typename MatVec, typename IsFinite, typename Dense>
+bool icn_below_impl(const Eigen::VectorXd& diag, double threshold, IcnWarmStart* warm, MatVec&& matvec,
+                    IsFinite&& is_finite, Dense&& dense) {
+  const Eigen::Index n = diag.size();
+  const double trace = diag.sum();
+  const double margin = 1e-8 * trace;  // >> the rounding of what follows (~n^2 eps trace)
+  const double t2 = threshold * threshold;
+  const auto shift_below = [&](double lambda_lo) { return t2 * (lambda_lo - margin) - margin; };
+  double lambda_lo = diag.maxCoeff();  // G_jj <= lambda_max
+  thread_local Eigen::VectorXcd Gv, Gu;
+
+  // Stage 0: the warm vectors' Rayleigh quotients. A non-finite entry of G makes both
+  // quotients non-finite (every entry enters G v), so that case falls through to the check below.
+  if (warm && warm->top.size() == n && warm->bottom.size() == n && std::isfinite(trace)) {
+    matvec(warm->top, Gv);
+    matvec(warm->bottom, Gu);
+    const double r_top = warm->top.dot(Gv).real() / warm->top.squaredNorm();
+    const double r_bottom = warm->bottom.dot(Gu).real() / warm->bottom.squaredNorm();
+    if (std::isfinite(r_top) && std::isfinite(r_bottom)) {
+      lambda_lo = std::max(lambda_lo, r_top);
+      // One power step each for the next call: G's top, and the top of lambda_lo I - G (G's bottom).
+      Gu = lambda_lo * warm->bottom - Gu;
+      if (!normalized_into(Gu, warm->bottom)) warm->bottom.resize(0);
+      if (!normalized_into(Gv, warm->top)) warm->top.resize(0);
+      if (r_bottom + margin < shift_below(lambda_lo)) return true;
+    }
+  }
+  if (!is_finite()) return false;
+
+  // Stage 1: two power iterations from the warm start (the previous call's vector: G changes
+  // little between iterations) give a Rayleigh quotient <= lambda_max; then Cholesky.
+  constexpr int kPowerIterations = 2;
+  thread_local Eigen::VectorXcd v;
+  if (warm && warm->top.size() == n && warm->top.allFinite() && warm->top.squaredNorm() > 0.0) {
+    v = warm->top;
+  } else {
+    matvec(Eigen::VectorXcd::Ones(n), v);  // any start; the warm start takes over from the next call
+  }
+  for (int i = 0; i < kPowerIterations; ++i) {
+    const double vv = v.squaredNorm();
+    if (!(vv > 0.0)) return false;
+    matvec(v, Gv);
+    lambda_lo = std::max(lambda_lo, v.dot(Gv).real() / vv);
+    v = Gv / std::sqrt(Gv.squaredNorm());
+  }
+  if (!v.allFinite()) return false;
+  if (warm) {
+    warm->top = v;
+    if (warm->bottom.size() != n) {
+      // The unit vector of G's smallest diagonal entry: R = min G_jj; stage 0 refines it.
+      Eigen::Index j = 0;
+      diag.minCoeff(&j);
+      warm->bottom = Eigen::VectorXcd::Unit(n, j);
+    }
+  }
+  const Eigen::MatrixXcd& G = dense();
+  const double s1 = shift_below(lambda_lo);
+  thread_local Eigen::VectorXcd z;
+  if (s1 > 0.0 && cholesky_fails(G, s1, warm ? &z : nullptr)) {
+    // The failure's witness (R(z) <= s1) as the next call's bottom vector: G changes little.
+    if (warm) normalized_into(z, warm->bottom);
+    return true;
+  }
+
+  // Stage 2: Lanczos (full reorthogonalisation) from G's heaviest column (not from v, which
+  // may nearly be an eigenvector, a one-dimensional Krylov space): the extreme Ritz values satisfy
+  // theta_max <= lambda_max and theta_min >= lambda_min (to a few eps ||G||), and theta_max
+  // converges fast even when the top of the spectrum is clustered.
+  thread_local Eigen::MatrixXcd V;
+  thread_local Eigen::VectorXd alpha, beta;
+  const Eigen::Index k = detail::lanczos(G, 8, V, alpha, beta);
+  if (k == 0) return false;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz;
+  Eigen::VectorXd ritz_diag = alpha.head(k);
+  Eigen::VectorXd sub = beta.head(k - 1);
+  ritz.computeFromTridiagonal(ritz_diag, sub, Eigen::EigenvaluesOnly);
+  const double theta_min = ritz.eigenvalues()(0);
+  const double theta_max = std::max(ritz.eigenvalues()(k - 1), lambda_lo);
+  const double s2 = shift_below(theta_max);
+  if (!(s2 > 0.0)) return false;
+  if (theta_min + margin < s2) return true;
+  return s2 > s1 && cholesky_fails(G, s2);
+}
+}  // namespace
+
+bool icn_below(const Eigen::MatrixXcd& G, int num_rows, double threshold, IcnWarmStart* warm) {
+  if (num_rows < G.cols() || G.size() == 0) return threshold > 0.0;  // ICN is 0
+  if (!(threshold > 0.0)) return false;
+  const Eigen::VectorXd diag = G.diagonal().real();
+  return icn_below_impl(
+      diag, threshold, warm, [&](const Eigen::VectorXcd& x, Eigen::VectorXcd& y) { y.noalias() = G * x; },
+      [&] { return G.allFinite(); }, [&]() -> const Eigen::MatrixXcd& { return G; });
+}
+
+bool icn_below(const SwarmChannel& channel, double threshold, IcnWarmStart* warm) {
+  if (channel.gram_side() == SwarmChannel::GramSide::kUavs) {
+    return icn_below(channel.gram(), channel.num_uavs(), threshold, warm);
+  }
+  const kernels::GramPlanes G = channel.gram_planes();
+  if (channel.num_uavs() < G.n || G.n == 0) return threshold > 0.0;  // ICN is 0
+  if (!(threshold > 0.0)) return false;
+  Eigen::VectorXd diag(G.n);
+  for (int l = 0; l < G.n; ++l) diag(l) = G.re[l + static_cast<std::ptrdiff_t>(l) * G.ld];
+  const kernels::Kernels& k = channel.model().kernels();
+  const auto matvec = [&](const Eigen::VectorXcd& x, Eigen::VectorXcd& y) {
+    thread_local std::vector<double> xr, xi, yr, yi;
+    xr.assign(G.ld, 0.0);
+    xi.assign(G.ld, 0.0);
+    yr.resize(G.ld);
+    yi.resize(G.ld);
+    for (int l = 0; l < G.n; ++l) {
+      xr[l] = x(l).real();
+      xi[l] = x(l).imag();
+    }
+    k.hermitian_matvec(G, xr.data(), xi.data(), yr.data(), yi.data());
+    y.resize(G.n);
+    for (int l = 0; l < G.n; ++l) y(l) = {yr[l], yi[l]};
+  };
+  return icn_below_impl(
+      diag, threshold, warm, matvec, [&] { return channel.gram_is_finite(); },
+      [&]() -> const Eigen::MatrixXcd& { return channel.gram(); });
+}
+
+}  // namespace losmimo::placement
