@@ -17,7 +17,7 @@ namespace losmimo::placement {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr int kComplexPerBlock = 8;  // the kernels' normals: 16 reals, 8 Box-Muller pairs
+constexpr int kComplexPerBlock = kernels::kNormalsPerBlock / 2;  // a block's Box-Muller pairs
 
 // "rician_k_db = nan: must be a number in [-50, 100] dB or inf"
 [[noreturn]] void bad_db(const char* field, double value, double lo, double hi) {

@@ -1,6 +1,7 @@
 #include "losmimo/placement/isa.h"
 
 #include <cstdlib>
+#include <iterator>
 #include <stdexcept>
 
 namespace losmimo::placement {
@@ -14,11 +15,20 @@ std::string to_string(Isa isa) {
   return "unknown";
 }
 
+std::string isa_name_requirement() {
+  std::string names;
+  const std::size_t count = std::size(kAllIsas);
+  for (std::size_t i = 0; i < count; ++i) {
+    names += (i == 0 ? "" : i + 1 == count ? " or " : ", ") + to_string(kAllIsas[i]);
+  }
+  return "must be " + names;
+}
+
 Isa isa_from_string(const std::string& text) {
-  for (const Isa isa : {Isa::kSse2, Isa::kAvx2, Isa::kAvx512}) {
+  for (const Isa isa : kAllIsas) {
     if (text == to_string(isa)) return isa;
   }
-  throw std::invalid_argument("instruction set '" + text + "': must be sse2, avx2 or avx512");
+  throw std::invalid_argument("instruction set '" + text + "': " + isa_name_requirement());
 }
 
 bool isa_supported(Isa isa) {
@@ -40,7 +50,7 @@ bool isa_supported(Isa isa) {
 
 std::vector<Isa> supported_isas() {
   std::vector<Isa> out;
-  for (const Isa isa : {Isa::kSse2, Isa::kAvx2, Isa::kAvx512}) {
+  for (const Isa isa : kAllIsas) {
     if (isa_supported(isa)) out.push_back(isa);
   }
   return out;
@@ -54,8 +64,8 @@ Isa choose_isa() {
   try {
     isa = isa_from_string(forced);
   } catch (const std::invalid_argument&) {
-    throw std::invalid_argument(std::string(kIsaEnvironmentVariable) + " = '" + forced +
-                                "': must be sse2, avx2 or avx512");
+    throw std::invalid_argument(std::string(kIsaEnvironmentVariable) + " = '" + forced + "': " +
+                                isa_name_requirement());
   }
   if (!isa_supported(isa)) {
     std::string have;

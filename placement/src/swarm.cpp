@@ -63,7 +63,7 @@ Swarm::Swarm(const ChannelModel& model, const Eigen::Matrix3Xd& start_m, const E
 }
 
 void Swarm::refill_normals() {
-  static_assert((kNormalBlocks * kNormalsPerBlock) % 3 == 0, "draws of three must not straddle a refill");
+  static_assert((kNormalBlocks * kernels::kNormalsPerBlock) % 3 == 0, "draws of three must not straddle a refill");
   channel_.model().kernels().normals(normal_key_, normal_next_block_, normal_buffer_.data(), kNormalBlocks);
   normal_next_block_ += kNormalBlocks;
   normal_used_ = 0;

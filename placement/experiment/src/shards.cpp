@@ -95,7 +95,8 @@ void add_shard_timing(const common::IniConfig& shard_ini, RunTiming& timing) {
     try {
       ++timing.shard_isas[placement::to_string(placement::isa_from_string(isa))];
     } catch (const std::invalid_argument&) {
-      throw common::InputError(shard_ini.where("shard", "isa") + " = " + isa + ": must be sse2, avx2 or avx512");
+      throw common::InputError(shard_ini.where("shard", "isa") + " = " + isa + ": " +
+                               placement::isa_name_requirement());
     }
   }
   if (!shard_ini.has("shard", "wall_s") || !shard_ini.has("shard", "threads")) return;

@@ -17,7 +17,11 @@ enum class Isa {
   kAvx512,  // AVX-512 F/DQ/VL: 8 doubles per vector
 };
 
+inline constexpr Isa kAllIsas[] = {Isa::kSse2, Isa::kAvx2, Isa::kAvx512};  // narrowest first
+
 std::string to_string(Isa isa);  // "sse2", "avx2", "avx512"
+// "must be sse2, avx2 or avx512": what an error message says of a name that is none of them.
+std::string isa_name_requirement();
 // Parses the names above; throws std::invalid_argument naming the text otherwise.
 Isa isa_from_string(const std::string& text);
 

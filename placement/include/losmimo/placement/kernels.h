@@ -38,6 +38,8 @@
 namespace losmimo::placement::kernels {
 
 inline constexpr int kLanes = 8;
+// Numbers per block of the normals kernel: kLanes Box-Muller pairs, the cosines then the sines.
+inline constexpr int kNormalsPerBlock = 2 * kLanes;
 constexpr int padded(int n) { return (n + kLanes - 1) / kLanes * kLanes; }
 
 // The BS array as the row kernels see it.
@@ -99,8 +101,8 @@ struct Kernels {
   // y = G v.
   void (*hermitian_matvec)(const GramPlanes& G, const double* vr, const double* vi, double* yr, double* yi);
   // Standard normal numbers of the counter-based stream `key`: blocks first_block ..
-  // first_block + blocks - 1, 16 numbers each, into out (16 blocks doubles). Number i of a
-  // stream depends on (key, i) only (swarm.h has the definition).
+  // first_block + blocks - 1, kNormalsPerBlock numbers each, into out (kNormalsPerBlock blocks
+  // doubles). Number i of a stream depends on (key, i) only (swarm.h has the definition).
   void (*normals)(std::uint64_t key, std::uint64_t first_block, double* out, int blocks);
 };
 

@@ -155,11 +155,10 @@ class Swarm {
   // The counter-based stream: the next kNormalBlocks blocks are buffered, a multiple of three
   // numbers, so that every draw of three lies within one refill.
   static constexpr int kNormalBlocks = 12;
-  static constexpr int kNormalsPerBlock = 16;
   std::uint64_t normal_key_;
   std::uint64_t normal_next_block_ = 0;
-  int normal_used_ = kNormalBlocks * kNormalsPerBlock;
-  std::array<double, kNormalBlocks * kNormalsPerBlock> normal_buffer_{};
+  int normal_used_ = kNormalBlocks * kernels::kNormalsPerBlock;
+  std::array<double, kNormalBlocks * kernels::kNormalsPerBlock> normal_buffer_{};
   Eigen::VectorXd placement_dist_m_;
   Eigen::VectorXd probe_dist_m_;
   Eigen::VectorXd commanded_placement_dist_m_;
