@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "support/numdiff.h"
 #include "losmimo/placement/metrics.h"
 #include "losmimo/placement/swarm_channel.h"
@@ -149,6 +151,22 @@ TEST(SwarmChannel, GramStaysExactlyHermitianThroughUpdatesAndRefreshes) {
       for (Eigen::Index l = k + 1; l < G.rows(); ++l) {
         ASSERT_EQ(G(l, k), std::conj(G(k, l))) << "move " << i << " entry " << l << "," << k;
       }
+    }
+  }
+}
+
+TEST(SwarmChannel, GramIsFinite_FindsAnInfOrNanEntryAnywhereInTheGram) {
+  const lp::Scenario s;
+  const lp::ChannelModel model(s);
+  const Eigen::Matrix3Xd q = lp::optimal_ura_positions_m(s);
+  for (const double bad : {1e200, std::numeric_limits<double>::quiet_NaN()}) {
+    for (const int k : {0, 7, 15}) {  // the first, a middle and the last antenna
+      lp::SwarmChannel channel(model, q);
+      ASSERT_TRUE(channel.gram_is_finite());
+      Eigen::VectorXcd x = model.row(q.col(3));
+      x(k) = {bad, 0.0};  // |x_k|^2 overflows to inf, or NaN: row and column k of G
+      channel.set_row(3, x);
+      EXPECT_FALSE(channel.gram_is_finite()) << bad << " at " << k;
     }
   }
 }
