@@ -49,9 +49,11 @@ bool normalized_into(const Eigen::VectorXcd& v, Eigen::VectorXcd& out) {
 // What the proof needs of G: its real diagonal, y = G x, whether every entry is finite, and
 // the dense matrix (Cholesky, Lanczos), asked for only when the products did not settle it.
 template <typename MatVec, typename IsFinite, typename Dense>
-bool icn_below_impl(const Eigen::VectorXd& diag, double threshold, IcnWarmStart* warm, MatVec&& matvec,
-                    IsFinite&& is_finite, Dense&& dense) {
+bool icn_below_impl(const Eigen::VectorXd& diag, int num_rows, double threshold, IcnWarmStart* warm,
+                    MatVec&& matvec, IsFinite&& is_finite, Dense&& dense) {
   const Eigen::Index n = diag.size();
+  if (num_rows < n || n == 0) return threshold > 0.0;  // ICN is 0
+  if (!(threshold > 0.0)) return false;
   const double trace = diag.sum();
   const double margin = 1e-8 * trace;  // >> the rounding of what follows (~n^2 eps trace)
   const double t2 = threshold * threshold;
@@ -91,9 +93,8 @@ bool icn_below_impl(const Eigen::VectorXd& diag, double threshold, IcnWarmStart*
     if (!(vv > 0.0)) return false;
     matvec(v, Gv);
     lambda_lo = std::max(lambda_lo, v.dot(Gv).real() / vv);
-    v = Gv / std::sqrt(Gv.squaredNorm());
+    if (!normalized_into(Gv, v)) return false;
   }
-  if (!v.allFinite()) return false;
   if (warm) {
     warm->top = v;
     if (warm->bottom.size() != n) {
@@ -134,11 +135,9 @@ bool icn_below_impl(const Eigen::VectorXd& diag, double threshold, IcnWarmStart*
 }  // namespace
 
 bool icn_below(const Eigen::MatrixXcd& G, int num_rows, double threshold, IcnWarmStart* warm) {
-  if (num_rows < G.cols() || G.size() == 0) return threshold > 0.0;  // ICN is 0
-  if (!(threshold > 0.0)) return false;
   const Eigen::VectorXd diag = G.diagonal().real();
   return icn_below_impl(
-      diag, threshold, warm, [&](const Eigen::VectorXcd& x, Eigen::VectorXcd& y) { y.noalias() = G * x; },
+      diag, num_rows, threshold, warm, [&](const Eigen::VectorXcd& x, Eigen::VectorXcd& y) { y.noalias() = G * x; },
       [&] { return G.allFinite(); }, [&]() -> const Eigen::MatrixXcd& { return G; });
 }
 
@@ -147,8 +146,6 @@ bool icn_below(const SwarmChannel& channel, double threshold, IcnWarmStart* warm
     return icn_below(channel.gram(), channel.num_uavs(), threshold, warm);
   }
   const kernels::GramPlanes G = channel.gram_planes();
-  if (channel.num_uavs() < G.n || G.n == 0) return threshold > 0.0;  // ICN is 0
-  if (!(threshold > 0.0)) return false;
   Eigen::VectorXd diag(G.n);
   for (int l = 0; l < G.n; ++l) diag(l) = G.re[l + static_cast<std::ptrdiff_t>(l) * G.ld];
   const kernels::Kernels& k = channel.model().kernels();
@@ -167,7 +164,7 @@ bool icn_below(const SwarmChannel& channel, double threshold, IcnWarmStart* warm
     for (int l = 0; l < G.n; ++l) y(l) = {yr[l], yi[l]};
   };
   return icn_below_impl(
-      diag, threshold, warm, matvec, [&] { return channel.gram_is_finite(); },
+      diag, channel.num_uavs(), threshold, warm, matvec, [&] { return channel.gram_is_finite(); },
       [&]() -> const Eigen::MatrixXcd& { return channel.gram(); });
 }
 
