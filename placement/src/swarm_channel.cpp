@@ -25,6 +25,19 @@ bool all_finite(const std::vector<double>& values) {
   for (const double s : sums) total += s;
   return total == 0.0;
 }
+
+// Lane p of (px, py, pz) gets column offset + p of q_m, clamped to its columns: lanes past the
+// last column repeat it, lanes before the first repeat the first (zeros without columns).
+void positions_into_lanes(const Eigen::Ref<const Eigen::Matrix3Xd>& q_m, int offset, double* px, double* py,
+                          double* pz) {
+  const int cols = static_cast<int>(q_m.cols());
+  for (int p = 0; p < kernels::kLanes; ++p) {
+    const int c = std::clamp(offset + p, 0, std::max(cols - 1, 0));
+    px[p] = cols > 0 ? q_m(0, c) : 0.0;
+    py[p] = cols > 0 ? q_m(1, c) : 0.0;
+    pz[p] = cols > 0 ? q_m(2, c) : 0.0;
+  }
+}
 }  // namespace
 
 SwarmChannel::SwarmChannel(const ChannelModel& model, const Eigen::Matrix3Xd& q_m)
@@ -113,12 +126,7 @@ void SwarmChannel::set_positions(const Eigen::Matrix3Xd& q_m) {
   Xi.resize(static_cast<std::size_t>(ld_) * kLanes);
   for (int first = 0; first < nr; first += kLanes) {
     double px[kLanes], py[kLanes], pz[kLanes];
-    for (int p = 0; p < kLanes; ++p) {
-      const int m = std::min(first + p, nr - 1);  // unused lanes repeat the last UAV
-      px[p] = q_m(0, m);
-      py[p] = q_m(1, m);
-      pz[p] = q_m(2, m);
-    }
+    positions_into_lanes(q_m, first, px, py, pz);  // unused lanes repeat the last UAV
     model_->kernels().rows_lanes(model_->geometry(), px, py, pz, Xr.data(), Xi.data());
     for (int p = 0; p < kLanes && first + p < nr; ++p) {
       const int m = first + p;
@@ -275,12 +283,7 @@ void UavObjective::objectives_at(const Eigen::Ref<const Eigen::Matrix3Xd>& q_m, 
     const bool stay = with_current_row && begin == 0;
     // Unused lanes repeat the last candidate (its f is computed and dropped).
     double px[kLanes], py[kLanes], pz[kLanes];
-    for (int p = 0; p < kLanes; ++p) {
-      const int c = std::clamp(begin + p - first, 0, std::max(points - 1, 0));
-      px[p] = points > 0 ? q_m(0, c) : 0.0;
-      py[p] = points > 0 ? q_m(1, c) : 0.0;
-      pz[p] = points > 0 ? q_m(2, c) : 0.0;
-    }
+    positions_into_lanes(q_m, begin - first, px, py, pz);
     model.kernels().rows_lanes(model.geometry(), px, py, pz, Xr.data(), Xi.data());
     if (stay) {
       const double* re = swarm_->row_re(m_);
