@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "losmimo/placement/run.h"
@@ -46,11 +47,13 @@ bool normalized_into(const Eigen::VectorXcd& v, Eigen::VectorXcd& out) {
   return true;
 }
 
-// What the proof needs of G: its real diagonal, y = G x, whether every entry is finite, and
-// the dense matrix (Cholesky, Lanczos), asked for only when the products did not settle it.
-template <typename MatVec, typename IsFinite, typename Dense>
+// What the proof needs of G: its real diagonal, y = G x, whether every entry is finite, the
+// dense matrix (Cholesky) and its split planes (Lanczos), the last two asked for only when the
+// products did not settle it.
+template <typename MatVec, typename IsFinite, typename Dense, typename Planes>
 bool icn_below_impl(const Eigen::VectorXd& diag, int num_rows, double threshold, IcnWarmStart* warm,
-                    MatVec&& matvec, IsFinite&& is_finite, Dense&& dense) {
+                    MatVec&& matvec, IsFinite&& is_finite, Dense&& dense, const kernels::Kernels& kern,
+                    Planes&& planes) {
   const Eigen::Index n = diag.size();
   if (num_rows < n || n == 0) return threshold > 0.0;  // ICN is 0
   if (!(threshold > 0.0)) return false;
@@ -117,13 +120,12 @@ bool icn_below_impl(const Eigen::VectorXd& diag, int num_rows, double threshold,
   // may nearly be an eigenvector, a one-dimensional Krylov space): the extreme Ritz values satisfy
   // theta_max <= lambda_max and theta_min >= lambda_min (to a few eps ||G||), and theta_max
   // converges fast even when the top of the spectrum is clustered.
-  thread_local Eigen::MatrixXcd V;
-  thread_local Eigen::VectorXd alpha, beta;
-  const Eigen::Index k = detail::lanczos(G, 8, V, alpha, beta);
+  thread_local detail::LanczosBasis basis;
+  const Eigen::Index k = detail::lanczos(kern, planes(), 8, basis);
   if (k == 0) return false;
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz;
-  Eigen::VectorXd ritz_diag = alpha.head(k);
-  Eigen::VectorXd sub = beta.head(k - 1);
+  Eigen::VectorXd ritz_diag = basis.alpha.head(k);
+  Eigen::VectorXd sub = basis.beta.head(k - 1);
   ritz.computeFromTridiagonal(ritz_diag, sub, Eigen::EigenvaluesOnly);
   const double theta_min = ritz.eigenvalues()(0);
   const double theta_max = std::max(ritz.eigenvalues()(k - 1), lambda_lo);
@@ -136,9 +138,11 @@ bool icn_below_impl(const Eigen::VectorXd& diag, int num_rows, double threshold,
 
 bool icn_below(const Eigen::MatrixXcd& G, int num_rows, double threshold, IcnWarmStart* warm) {
   const Eigen::VectorXd diag = G.diagonal().real();
+  std::optional<detail::DensePlanes> dense;
   return icn_below_impl(
       diag, num_rows, threshold, warm, [&](const Eigen::VectorXcd& x, Eigen::VectorXcd& y) { y.noalias() = G * x; },
-      [&] { return G.allFinite(); }, [&]() -> const Eigen::MatrixXcd& { return G; });
+      [&] { return G.allFinite(); }, [&]() -> const Eigen::MatrixXcd& { return G; }, kernels::active_kernels(),
+      [&] { return dense.emplace(G).planes(); });
 }
 
 bool icn_below(const SwarmChannel& channel, double threshold, IcnWarmStart* warm) {
@@ -165,7 +169,7 @@ bool icn_below(const SwarmChannel& channel, double threshold, IcnWarmStart* warm
   };
   return icn_below_impl(
       diag, channel.num_uavs(), threshold, warm, matvec, [&] { return channel.gram_is_finite(); },
-      [&]() -> const Eigen::MatrixXcd& { return channel.gram(); });
+      [&]() -> const Eigen::MatrixXcd& { return channel.gram(); }, k, [&] { return G; });
 }
 
 }  // namespace losmimo::placement

@@ -2,42 +2,121 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
 
 namespace losmimo::placement::detail {
 
-Eigen::Index lanczos(const Eigen::MatrixXcd& G, Eigen::Index steps, Eigen::MatrixXcd& V, Eigen::VectorXd& alpha,
-                     Eigen::VectorXd& beta) {
-  const Eigen::Index n = G.cols();
-  steps = std::min(steps, n);
-  V.resize(n, steps);
-  alpha.resize(steps);
-  beta.resize(std::max<Eigen::Index>(steps - 1, 0));
-  const double trace = G.diagonal().real().sum();
-  Eigen::Index k_max = 0;
-  G.colwise().squaredNorm().maxCoeff(&k_max);
-  Eigen::VectorXcd w = G.col(k_max);
+namespace {
+constexpr int kL = kernels::kLanes;  // ld is a multiple: the loops below need no tails
+using Lanes = Eigen::Array<double, kL, 1>;
+using ConstLanes = Eigen::Map<const Lanes>;
+
+// The sums below run in kL partial sums (Eigen vectorises the fixed-size arrays) added in a
+// fixed order: the same bits on every build and call.
+double squared_norm(const double* re, const double* im, int ld) {
+  Lanes s = Lanes::Zero();
+  for (int l = 0; l < ld; l += kL) s += ConstLanes(re + l).square() + ConstLanes(im + l).square();
+  return s.sum();
+}
+
+// a^H b.
+std::complex<double> dot(const double* ar, const double* ai, const double* br, const double* bi, int ld) {
+  Lanes sr = Lanes::Zero(), si = Lanes::Zero();
+  for (int l = 0; l < ld; l += kL) {
+    const ConstLanes a_re(ar + l), a_im(ai + l), b_re(br + l), b_im(bi + l);
+    sr += a_re * b_re + a_im * b_im;
+    si += a_re * b_im - a_im * b_re;
+  }
+  return {sr.sum(), si.sum()};
+}
+
+// w -= a v.
+void subtract_multiple(std::complex<double> a, const double* vr, const double* vi, double* wr, double* wi, int ld) {
+  const double ar = a.real(), ai = a.imag();
+  for (int l = 0; l < ld; ++l) {
+    wr[l] -= ar * vr[l] - ai * vi[l];
+    wi[l] -= ar * vi[l] + ai * vr[l];
+  }
+}
+}  // namespace
+
+Eigen::Index lanczos(const kernels::Kernels& kern, const kernels::GramPlanes& G, Eigen::Index steps,
+                     LanczosBasis& basis) {
+  const int n = G.n, ld = G.ld;
+  steps = std::min<Eigen::Index>(steps, n);
+  basis.ld = ld;
+  basis.re.assign(static_cast<std::size_t>(ld) * steps, 0.0);
+  basis.im.assign(static_cast<std::size_t>(ld) * steps, 0.0);
+  basis.alpha.resize(steps);
+  basis.beta.resize(std::max<Eigen::Index>(steps - 1, 0));
+  double trace = 0.0, heaviest = -1.0;
+  int k_max = 0;
+  for (int c = 0; c < n; ++c) {
+    const std::ptrdiff_t col = static_cast<std::ptrdiff_t>(c) * ld;
+    trace += G.re[col + c];
+    const double weight = squared_norm(G.re + col, G.im + col, ld);
+    if (weight > heaviest) {
+      heaviest = weight;
+      k_max = c;
+    }
+  }
+  thread_local std::vector<double> wr, wi;
+  thread_local std::vector<std::complex<double>> coeff;
+  const std::ptrdiff_t heaviest_col = static_cast<std::ptrdiff_t>(k_max) * ld;
+  wr.assign(G.re + heaviest_col, G.re + heaviest_col + ld);
+  wi.assign(G.im + heaviest_col, G.im + heaviest_col + ld);
+  const auto vr = [&](Eigen::Index j) { return basis.re.data() + j * ld; };
+  const auto vi = [&](Eigen::Index j) { return basis.im.data() + j * ld; };
   Eigen::Index k = 0;
   for (; k < steps; ++k) {
-    const double norm = w.norm();
+    const double norm = std::sqrt(squared_norm(wr.data(), wi.data(), ld));
     if (!(norm > 1e-12 * std::sqrt(std::abs(trace)))) break;  // an invariant subspace
-    V.col(k) = w / norm;
-    if (k > 0) beta(k - 1) = norm;
+    for (int l = 0; l < ld; ++l) {
+      vr(k)[l] = wr[l] / norm;
+      vi(k)[l] = wi[l] / norm;
+    }
+    if (k > 0) basis.beta(k - 1) = norm;
     // The three-term recurrence first, then one full reorthogonalisation pass, and a second
     // only when the first removed most of what was left (Daniel-Gragg-Kaufman-Stewart): after
     // the recurrence the earlier vectors' components are at rounding level, so one pass
     // usually suffices.
-    w.noalias() = G * V.col(k);
-    alpha(k) = V.col(k).dot(w).real();
-    w -= alpha(k) * V.col(k);
-    if (k > 0) w -= beta(k - 1) * V.col(k - 1);
+    kern.hermitian_matvec(G, vr(k), vi(k), wr.data(), wi.data());
+    basis.alpha(k) = dot(vr(k), vi(k), wr.data(), wi.data(), ld).real();
+    subtract_multiple(basis.alpha(k), vr(k), vi(k), wr.data(), wi.data(), ld);
+    if (k > 0) subtract_multiple(basis.beta(k - 1), vr(k - 1), vi(k - 1), wr.data(), wi.data(), ld);
+    coeff.resize(static_cast<std::size_t>(k) + 1);
     for (int pass = 0; pass < 2; ++pass) {
-      const double before = w.norm();
-      w.noalias() -= V.leftCols(k + 1) * (V.leftCols(k + 1).adjoint() * w);
-      if (w.norm() > std::sqrt(0.5) * before) break;
+      const double before = squared_norm(wr.data(), wi.data(), ld);
+      for (Eigen::Index j = 0; j <= k; ++j) coeff[j] = dot(vr(j), vi(j), wr.data(), wi.data(), ld);
+      for (Eigen::Index j = 0; j <= k; ++j) subtract_multiple(coeff[j], vr(j), vi(j), wr.data(), wi.data(), ld);
+      if (squared_norm(wr.data(), wi.data(), ld) > 0.5 * before) break;
     }
   }
   return k;
+}
+
+Eigen::VectorXcd combine(const LanczosBasis& basis, int n, const Eigen::VectorXd& s) {
+  Eigen::VectorXcd v = Eigen::VectorXcd::Zero(n);
+  for (Eigen::Index j = 0; j < s.size(); ++j) {
+    const double* vr = basis.re.data() + j * basis.ld;
+    const double* vi = basis.im.data() + j * basis.ld;
+    for (int l = 0; l < n; ++l) v(l) += s(j) * std::complex<double>(vr[l], vi[l]);
+  }
+  return v;
+}
+
+DensePlanes::DensePlanes(const Eigen::MatrixXcd& G)
+    : n_(static_cast<int>(G.cols())),
+      ld_(kernels::padded(n_)),
+      re_(static_cast<std::size_t>(ld_) * n_, 0.0),
+      im_(static_cast<std::size_t>(ld_) * n_, 0.0) {
+  for (int k = 0; k < n_; ++k) {
+    for (int l = 0; l < n_; ++l) {
+      re_[static_cast<std::size_t>(k) * ld_ + l] = G(l, k).real();
+      im_[static_cast<std::size_t>(k) * ld_ + l] = G(l, k).imag();
+    }
+  }
 }
 
 namespace {

@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <numeric>
+#include <optional>
 #include <vector>
 
 #include "lanczos.h"
@@ -24,17 +25,20 @@ bool StallDetector::update(double objective) {
 void StallDetector::reset() { count_ = 0; }
 
 namespace {
-// The eigenvector of the smallest eigenvalue of a Hermitian G: n Lanczos steps reduce G to a
-// real tridiagonal T = V^H G V (lanczos.h), whose smallest eigenvector s (bisection and inverse
-// iteration) gives it as V s: ~4x faster than Eigen's complex Hermitian solver at 16 x 16
-// (bench_placement BM_UavsByRedundancy). An invariant Krylov space (which may miss the smallest
-// eigenvalue) takes that solver instead.
-Eigen::VectorXcd smallest_eigenvector(const Eigen::MatrixXcd& G) {
-  thread_local Eigen::MatrixXcd V;
-  thread_local Eigen::VectorXd alpha, beta;
-  const Eigen::Index k = detail::lanczos(G, G.cols(), V, alpha, beta);
-  if (k < G.cols()) return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd>(G).eigenvectors().col(0);
-  return V * detail::smallest_tridiagonal_eigenvector(alpha, beta);
+// The eigenvector of the smallest eigenvalue of the swarm's Hermitian Gram matrix: n Lanczos
+// steps reduce it to a real tridiagonal T = V^H G V (lanczos.h), whose smallest eigenvector s
+// (bisection and inverse iteration) gives it as V s: ~4x faster than Eigen's complex Hermitian
+// solver at 16 x 16 (bench_placement BM_UavsByRedundancy). An invariant Krylov space (which
+// may miss the smallest eigenvalue) takes that solver instead.
+Eigen::VectorXcd smallest_eigenvector(const SwarmChannel& channel) {
+  thread_local detail::LanczosBasis basis;
+  std::optional<detail::DensePlanes> dense;  // the UAVs' Gram matrix is kept dense
+  const kernels::GramPlanes G = channel.gram_side() == SwarmChannel::GramSide::kBsAntennas
+                                    ? channel.gram_planes()
+                                    : dense.emplace(channel.gram()).planes();
+  const Eigen::Index k = detail::lanczos(channel.model().kernels(), G, G.n, basis);
+  if (k < G.n) return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd>(channel.gram()).eigenvectors().col(0);
+  return detail::combine(basis, G.n, detail::smallest_tridiagonal_eigenvector(basis.alpha, basis.beta));
 }
 }  // namespace
 
@@ -42,7 +46,7 @@ std::vector<int> uavs_by_redundancy(const SwarmChannel& channel) {
   // The left singular vector of sigma_min is H v / sigma_min with v the eigenvector of the
   // smallest eigenvalue of G = H^H H: an Nt x Nt Hermitian problem instead of an SVD of H. On
   // the UAV side (Nr < Nt) the Gram matrix is K = H H^H, whose eigenvector is that vector itself.
-  const Eigen::VectorXcd v = smallest_eigenvector(channel.gram());
+  const Eigen::VectorXcd v = smallest_eigenvector(channel);
   const Eigen::VectorXd weight = channel.gram_side() == SwarmChannel::GramSide::kUavs
                                      ? Eigen::VectorXd(v.cwiseAbs2())
                                      : Eigen::VectorXd((channel.H() * v).cwiseAbs2());
