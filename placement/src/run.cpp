@@ -10,6 +10,7 @@
 
 #include "losmimo/common/range.h"
 #include "losmimo/placement/metrics.h"
+#include "finite.h"
 
 namespace losmimo::placement {
 
@@ -48,7 +49,9 @@ DistanceKind distance_kind_from_string(const std::string& name) {
 std::optional<PlannerFault> check_finite(const Swarm& swarm) {
   const Eigen::Matrix3Xd& q = swarm.true_positions_m();
   const Eigen::MatrixXcd& H = swarm.channel().H();
-  if (q.allFinite() && H.allFinite() && swarm.channel().gram_is_finite()) return std::nullopt;  // the usual case
+  if (detail::all_finite(q) && detail::all_finite(H) && swarm.channel().gram_is_finite()) {
+    return std::nullopt;  // the usual case
+  }
   const Eigen::MatrixXcd& G = swarm.channel().gram();
   std::ostringstream reason;
   for (Eigen::Index m = 0; m < q.cols(); ++m) {

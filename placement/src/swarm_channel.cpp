@@ -6,25 +6,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "finite.h"
+
 namespace losmimo::placement {
 
 namespace {
 // Rank-one updates drift by ~1e-16 relative each; a periodic exact rebuild bounds it.
 constexpr int kRefreshEvery = 256;
-
-// Every entry finite: x * 0 is 0 for a finite x and NaN for inf or NaN. Eight independent
-// sums, which the compiler vectorises (a loop that stops at the first bad entry does not).
-bool all_finite(const std::vector<double>& values) {
-  double sums[8] = {};
-  std::size_t i = 0;
-  for (; i + 8 <= values.size(); i += 8) {
-    for (int j = 0; j < 8; ++j) sums[j] += values[i + j] * 0.0;
-  }
-  for (; i < values.size(); ++i) sums[0] += values[i] * 0.0;
-  double total = 0.0;
-  for (const double s : sums) total += s;
-  return total == 0.0;
-}
 
 // Lane p of (px, py, pz) gets column offset + p of q_m, clamped to its columns: lanes past the
 // last column repeat it, lanes before the first repeat the first (zeros without columns).
@@ -83,15 +71,23 @@ const Eigen::MatrixXcd& SwarmChannel::gram() const {
 }
 
 bool SwarmChannel::gram_is_finite() const {
-  if (side_ == GramSide::kUavs) return uav_gram_.allFinite();
-  return all_finite(gram_re_) && all_finite(gram_im_);
+  if (side_ == GramSide::kUavs) return detail::all_finite(uav_gram_);
+  return detail::all_finite(gram_re_.data(), static_cast<Eigen::Index>(gram_re_.size())) &&
+         detail::all_finite(gram_im_.data(), static_cast<Eigen::Index>(gram_im_.size()));
 }
 
 double SwarmChannel::objective() const {
-  if (side_ == GramSide::kUavs) return uav_gram_objective();
-  // sum_{l != k} |G_lk|^2: the leave-one-out energy of a zero row.
-  const std::vector<double> zero(ld_, 0.0);
-  return model_->kernels().leave_one_out_energy(gram_planes(), zero.data(), zero.data());
+  if (objective_version_ == version_) return objective_;
+  if (side_ == GramSide::kUavs) {
+    objective_ = uav_gram_objective();
+  } else {
+    // sum_{l != k} |G_lk|^2: the leave-one-out energy of a zero row.
+    thread_local std::vector<double> zero;
+    zero.assign(ld_, 0.0);
+    objective_ = model_->kernels().leave_one_out_energy(gram_planes(), zero.data(), zero.data());
+  }
+  objective_version_ = version_;
+  return objective_;
 }
 
 void SwarmChannel::set_position(int m, const Eigen::Vector3d& q_m) {

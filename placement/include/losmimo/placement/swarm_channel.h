@@ -78,6 +78,10 @@ class SwarmChannel {
   mutable bool gram_stale_ = true;
   int updates_since_refresh_ = 0;
   std::uint64_t version_ = 0;
+  // objective() of version objective_version_: a planner's stall test and the run's record of
+  // the same iteration ask for it in turn.
+  mutable std::uint64_t objective_version_ = ~std::uint64_t{0};
+  mutable double objective_ = 0.0;
   Eigen::MatrixXcd uav_gram_;  // K on the UAV side (exactly Hermitian)
 };
 
