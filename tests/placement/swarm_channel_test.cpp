@@ -130,6 +130,31 @@ TEST(SwarmChannel, CachedGramAfter1000Moves_EqualsFullRecompute) {
   EXPECT_LT((swarm.gram() - model.matrix(q).adjoint() * model.matrix(q)).norm(), 1e-9 * swarm.gram().norm());
 }
 
+TEST(SwarmChannel, ObjectiveAskedAfterEveryKindOfChange_IsTheNewChannels) {
+  // objective() is kept per channel version: every change must make it recompute.
+  const lp::Scenario s;
+  const lp::ChannelModel model(s);
+  Eigen::Matrix3Xd q = random_start(s, 12);
+  lp::SwarmChannel swarm(model, q);
+  const auto expect_current = [&](const char* after) {
+    const double full = lp::objective(swarm.H());
+    EXPECT_NEAR(swarm.objective(), full, 1e-9 * full) << after;
+    EXPECT_EQ(swarm.objective(), swarm.objective()) << after;  // asked twice: the same value
+  };
+  expect_current("construction");
+  q.col(3) += Eigen::Vector3d(0.2, -0.4, 0.1);
+  swarm.set_position(3, q.col(3));
+  expect_current("set_position");
+  swarm.set_row(5, model.row(Eigen::Vector3d(1004.0, -3.0, 2.0)));
+  expect_current("set_row");
+  q.array() += 0.05;
+  swarm.set_positions(q);
+  expect_current("set_positions");
+  swarm.refresh();
+  expect_current("refresh");
+  EXPECT_NEAR(swarm.objective(), lp::objective(model.matrix(q)), 1e-9 * swarm.objective());
+}
+
 TEST(SwarmChannel, GramStaysExactlyHermitianThroughUpdatesAndRefreshes) {
   // GIVEN: 600 moves (two periodic refreshes), exact-gain rows (not unit modulus)
   lp::Scenario s;
