@@ -66,7 +66,15 @@ bool icn_below_impl(const Eigen::VectorXd& diag, int num_rows, double threshold,
 
   // Stage 0: the warm vectors' Rayleigh quotients. A non-finite entry of G makes both
   // quotients non-finite (every entry enters G v), so that case falls through to the check below.
-  if (warm && warm->top.size() == n && warm->bottom.size() == n && std::isfinite(trace)) {
+  // Where G changes wholesale between calls (the URA's every UAV moving by many wavelengths) the
+  // vectors carry nothing over and this stage never proves anything: after kMisses failures in
+  // a row it runs only every kMisses-th call (stage 1 keeps both vectors current meanwhile).
+  constexpr int kMisses = 8;
+  const bool stage0 = warm && warm->top.size() == n && warm->bottom.size() == n && std::isfinite(trace) &&
+                      (warm->stage0_misses < kMisses || warm->stage0_misses % kMisses == 0);
+  if (warm && !stage0) ++warm->stage0_misses;
+  if (stage0) {
+    ++warm->stage0_misses;  // until it proves
     matvec(warm->top, Gv);
     matvec(warm->bottom, Gu);
     const double r_top = warm->top.dot(Gv).real() / warm->top.squaredNorm();
@@ -77,7 +85,10 @@ bool icn_below_impl(const Eigen::VectorXd& diag, int num_rows, double threshold,
       Gu = lambda_lo * warm->bottom - Gu;
       if (!normalized_into(Gu, warm->bottom)) warm->bottom.resize(0);
       if (!normalized_into(Gv, warm->top)) warm->top.resize(0);
-      if (r_bottom + margin < shift_below(lambda_lo)) return true;
+      if (r_bottom + margin < shift_below(lambda_lo)) {
+        warm->stage0_misses = 0;
+        return true;
+      }
     }
   }
   if (!is_finite()) return false;

@@ -115,3 +115,33 @@ TEST(IcnBelow, NonFiniteGram_IsNeverProvenBelow) {
     EXPECT_FALSE(lp::icn_below(broken, 16, 0.95)) << bad;
   }
 }
+
+TEST(IcnBelow, WarmVectorsThatStoppedProving_AreTriedAgainAndProveOnceGDriftsSlowly) {
+  // GIVEN: 40 unrelated channels (the URA jittered by 10 cm: ICN ~0.8-0.9, a new G every call,
+  // as under the URA's actuation error), where the warm vectors carry nothing over
+  const lp::Scenario s;
+  const lp::ChannelModel model(s);
+  std::mt19937_64 rng(11);
+  lp::IcnWarmStart warm;
+  for (int call = 0; call < 40; ++call) {
+    const Eigen::MatrixXcd H = jittered_ura_channel(model, s, 0.1, rng);
+    const bool below = lp::icn_below(H.adjoint() * H, 16, 0.95, &warm);
+    if (below) {
+      EXPECT_LT(lp::inverse_condition_number(H), 0.95);
+    }
+  }
+  EXPECT_GE(warm.stage0_misses, 8);
+  // WHEN the channel then drifts by 2 cm per call (a random swarm, ICN far below 0.95)
+  Eigen::Matrix3Xd q = lp::random_start_positions_m(s, rng);
+  std::normal_distribution<double> step(0.0, 0.02);
+  int proven_by_warm_vectors_at = -1;
+  for (int call = 0; call < 100 && proven_by_warm_vectors_at < 0; ++call) {
+    for (Eigen::Index i = 0; i < q.size(); ++i) q(i) += step(rng);
+    const Eigen::MatrixXcd H = model.matrix(q);
+    EXPECT_TRUE(lp::icn_below(H.adjoint() * H, 16, 0.95, &warm));
+    if (warm.stage0_misses == 0) proven_by_warm_vectors_at = call;
+  }
+  // THEN the warm vectors prove it again within a few of their periodic tries
+  EXPECT_GE(proven_by_warm_vectors_at, 0);
+  EXPECT_LT(proven_by_warm_vectors_at, 40);
+}

@@ -165,6 +165,7 @@ double icn_from_gram(const Eigen::MatrixXcd& G, int num_rows);
 struct IcnWarmStart {
   Eigen::VectorXcd top;
   Eigen::VectorXcd bottom;
+  int stage0_misses = 0;  // calls since the warm vectors last proved it
 };
 
 // true only if ICN(G) < threshold is proven, without an eigen-solve. First (with warm vectors)
@@ -174,8 +175,10 @@ struct IcnWarmStart {
 // iterations, then if needed the largest Ritz value of 8 Lanczos steps), and lambda_min <
 // s = threshold^2 L (less the margin) shown by a failed Cholesky factorisation of G - s I or
 // by the smallest Ritz value. false means "not proven" (then use icn_from_gram). warm (optional,
-// in/out): every call advances both vectors by one power step (the bottom one of the shifted
-// matrix L I - G), so they follow G from call to call.
+// in/out): a call that tests them advances both vectors by one power step (the bottom one of
+// the shifted matrix L I - G), so they follow G from call to call; after 8 calls in a row that
+// they did not settle (G changing wholesale) they are tested only every 8th call, and the
+// power iterations and Cholesky witness below keep them current meanwhile.
 bool icn_below(const Eigen::MatrixXcd& G, int num_rows, double threshold, IcnWarmStart* warm = nullptr);
 // The same proof on a swarm's cached Gram matrix, its products by the kernels'
 // hermitian_matvec (the dense G is converted only if the products do not settle it).
