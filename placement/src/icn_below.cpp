@@ -1,6 +1,5 @@
 // icn_below (run.h): the cheap proof that ICN(G) < threshold, on an Eigen matrix or on a
 // swarm's cached Gram matrix (whose products go through the kernels' hermitian_matvec).
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -17,26 +16,57 @@ namespace {
 // this margin (far above that rounding) proves lambda_min(G) < s. On a failure at pivot k,
 // *witness (if given) gets z = (-L11^-H r^H, 1, 0 ...), r the computed part of L's row k, for
 // which z^H (G - sI) z is that pivot (<= 0): a vector with Rayleigh quotient <= s.
-bool cholesky_fails(const Eigen::MatrixXcd& G, double s, Eigen::VectorXcd* witness = nullptr) {
-  // Eigen's unblocked factorisation, in per-thread scratch (no allocation): the public
-  // Eigen::LLT also computes an L1 norm with one hypot per entry and, on the real embedding
-  // of a 16 x 16 G, takes its blocked path; both cost more than the factorisation (2.9 us
-  // against 0.64 us here). unblocked() returns -1 when the factorisation succeeds.
-  thread_local Eigen::MatrixXcd M;
-  M = G;
-  M.diagonal().array() -= s;
-  const Eigen::Index k = Eigen::internal::llt_inplace<std::complex<double>, Eigen::Lower>::unblocked(M);
-  if (k < 0) return false;
-  if (witness) {
-    witness->setZero(G.cols());
-    (*witness)(k) = 1.0;
-    if (k > 0) {
-      Eigen::VectorXcd head = -M.row(k).head(k).adjoint();
-      M.topLeftCorner(k, k).triangularView<Eigen::Lower>().adjoint().solveInPlace(head);
-      witness->head(k) = head;
+//
+// Right-looking on a copy of G's split planes (lower triangle), each column update in chunks of
+// kernels::kLanes rows as fixed-size Eigen arrays (vectorised): no call per column. Eigen's
+// unblocked factorisation made a matrix-vector call per column, whose setup cost more than its
+// arithmetic at 16 x 16, on a dense copy of G that had to be converted from the planes first.
+bool cholesky_fails(const kernels::GramPlanes& G, double s, Eigen::VectorXcd* witness = nullptr) {
+  constexpr int kL = kernels::kLanes;
+  using Chunk = Eigen::Array<double, kL, 1>;
+  const int n = G.n, ld = G.ld;
+  thread_local std::vector<double> Lr, Li;  // A = G - sI, overwritten by L column by column
+  Lr.assign(G.re, G.re + static_cast<std::ptrdiff_t>(ld) * n);
+  Li.assign(G.im, G.im + static_cast<std::ptrdiff_t>(ld) * n);
+  const auto at = [&](int i, int j) { return static_cast<std::ptrdiff_t>(j) * ld + i; };
+  for (int j = 0; j < n; ++j) Lr[at(j, j)] -= s;
+  for (int j = 0; j < n; ++j) {
+    const double pivot = Lr[at(j, j)];
+    if (!(pivot > 0.0)) {
+      if (std::isnan(pivot)) return false;  // proves nothing
+      if (witness) {
+        // z = (y, 1, 0 ...) with L11^H y = -r^H, r = L's row j (its computed part).
+        const auto L = [&](int i, int c) { return std::complex<double>(Lr[at(i, c)], Li[at(i, c)]); };
+        witness->setZero(n);
+        (*witness)(j) = 1.0;
+        for (int i = j - 1; i >= 0; --i) {
+          std::complex<double> sum = -std::conj(L(j, i));
+          for (int c = i + 1; c < j; ++c) sum -= std::conj(L(c, i)) * (*witness)(c);
+          (*witness)(i) = sum / Lr[at(i, i)];
+        }
+      }
+      return true;
+    }
+    const double l_jj = std::sqrt(pivot);
+    Lr[at(j, j)] = l_jj;
+    Li[at(j, j)] = 0.0;
+    for (int i = j + 1; i < n; ++i) {
+      Lr[at(i, j)] /= l_jj;
+      Li[at(i, j)] /= l_jj;
+    }
+    // Column k > j, rows from k's chunk on: A_ik -= L_ij conj(L_kj). (The rows above k in that
+    // chunk are the upper triangle, never read.)
+    for (int k = j + 1; k < n; ++k) {
+      const double ar = Lr[at(k, j)], ai = Li[at(k, j)];
+      for (int i = k / kL * kL; i < ld; i += kL) {
+        const Eigen::Map<const Chunk> lr(&Lr[at(i, j)]), li(&Li[at(i, j)]);
+        Eigen::Map<Chunk> kr(&Lr[at(i, k)]), ki(&Li[at(i, k)]);
+        kr -= lr * ar + li * ai;
+        ki -= li * ar - lr * ai;
+      }
     }
   }
-  return true;
+  return false;
 }
 
 // v / |v| into out, or false if |v| is zero or not finite.
@@ -47,13 +77,11 @@ bool normalized_into(const Eigen::VectorXcd& v, Eigen::VectorXcd& out) {
   return true;
 }
 
-// What the proof needs of G: its real diagonal, y = G x, whether every entry is finite, the
-// dense matrix (Cholesky) and its split planes (Lanczos), the last two asked for only when the
-// products did not settle it.
-template <typename MatVec, typename IsFinite, typename Dense, typename Planes>
+// What the proof needs of G: its real diagonal, y = G x, whether every entry is finite, and
+// its split planes (Cholesky, Lanczos), asked for only when the products did not settle it.
+template <typename MatVec, typename IsFinite, typename Planes>
 bool icn_below_impl(const Eigen::VectorXd& diag, int num_rows, double threshold, IcnWarmStart* warm,
-                    MatVec&& matvec, IsFinite&& is_finite, Dense&& dense, const kernels::Kernels& kern,
-                    Planes&& planes) {
+                    MatVec&& matvec, IsFinite&& is_finite, const kernels::Kernels& kern, Planes&& planes) {
   const Eigen::Index n = diag.size();
   if (num_rows < n || n == 0) return threshold > 0.0;  // ICN is 0
   if (!(threshold > 0.0)) return false;
@@ -118,7 +146,7 @@ bool icn_below_impl(const Eigen::VectorXd& diag, int num_rows, double threshold,
       warm->bottom = Eigen::VectorXcd::Unit(n, j);
     }
   }
-  const Eigen::MatrixXcd& G = dense();
+  const kernels::GramPlanes G = planes();
   const double s1 = shift_below(lambda_lo);
   thread_local Eigen::VectorXcd z;
   if (s1 > 0.0 && cholesky_fails(G, s1, warm ? &z : nullptr)) {
@@ -132,7 +160,7 @@ bool icn_below_impl(const Eigen::VectorXd& diag, int num_rows, double threshold,
   // theta_max <= lambda_max and theta_min >= lambda_min (to a few eps ||G||), and theta_max
   // converges fast even when the top of the spectrum is clustered.
   thread_local detail::LanczosBasis basis;
-  const Eigen::Index k = detail::lanczos(kern, planes(), 8, basis);
+  const Eigen::Index k = detail::lanczos(kern, G, 8, basis);
   if (k == 0) return false;
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz;
   Eigen::VectorXd ritz_diag = basis.alpha.head(k);
@@ -152,8 +180,7 @@ bool icn_below(const Eigen::MatrixXcd& G, int num_rows, double threshold, IcnWar
   std::optional<detail::DensePlanes> dense;
   return icn_below_impl(
       diag, num_rows, threshold, warm, [&](const Eigen::VectorXcd& x, Eigen::VectorXcd& y) { y.noalias() = G * x; },
-      [&] { return G.allFinite(); }, [&]() -> const Eigen::MatrixXcd& { return G; }, kernels::active_kernels(),
-      [&] { return dense.emplace(G).planes(); });
+      [&] { return G.allFinite(); }, kernels::active_kernels(), [&] { return dense.emplace(G).planes(); });
 }
 
 bool icn_below(const SwarmChannel& channel, double threshold, IcnWarmStart* warm) {
@@ -179,8 +206,8 @@ bool icn_below(const SwarmChannel& channel, double threshold, IcnWarmStart* warm
     for (int l = 0; l < G.n; ++l) y(l) = {yr[l], yi[l]};
   };
   return icn_below_impl(
-      diag, channel.num_uavs(), threshold, warm, matvec, [&] { return channel.gram_is_finite(); },
-      [&]() -> const Eigen::MatrixXcd& { return channel.gram(); }, k, [&] { return G; });
+      diag, channel.num_uavs(), threshold, warm, matvec, [&] { return channel.gram_is_finite(); }, k,
+      [&] { return G; });
 }
 
 }  // namespace losmimo::placement
