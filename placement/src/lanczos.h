@@ -1,7 +1,7 @@
 #pragma once
 // Lanczos with full reorthogonalisation on a Hermitian matrix (internal to the placement
-// library): the ICN test's Ritz values (run.cpp) and the smallest eigenvector behind the UAVs'
-// redundancy order (stall.cpp).
+// library): the ICN test's Ritz values (icn_below.cpp) and the smallest eigenvector behind the
+// UAVs' redundancy order (stall.cpp).
 
 #include <Eigen/Core>
 #include <vector>
