@@ -68,9 +68,10 @@ Eigen::Index lanczos(const kernels::Kernels& kern, const kernels::GramPlanes& G,
   wi.assign(G.im + heaviest_col, G.im + heaviest_col + ld);
   const auto vr = [&](Eigen::Index j) { return basis.re.data() + j * ld; };
   const auto vi = [&](Eigen::Index j) { return basis.im.data() + j * ld; };
+  double w2 = heaviest;  // |w|^2, carried from where it was last computed
   Eigen::Index k = 0;
   for (; k < steps; ++k) {
-    const double norm = std::sqrt(squared_norm(wr.data(), wi.data(), ld));
+    const double norm = std::sqrt(w2);
     if (!(norm > 1e-12 * std::sqrt(std::abs(trace)))) break;  // an invariant subspace
     for (int l = 0; l < ld; ++l) {
       vr(k)[l] = wr[l] / norm;
@@ -86,11 +87,13 @@ Eigen::Index lanczos(const kernels::Kernels& kern, const kernels::GramPlanes& G,
     subtract_multiple(basis.alpha(k), vr(k), vi(k), wr.data(), wi.data(), ld);
     if (k > 0) subtract_multiple(basis.beta(k - 1), vr(k - 1), vi(k - 1), wr.data(), wi.data(), ld);
     coeff.resize(static_cast<std::size_t>(k) + 1);
+    double before = squared_norm(wr.data(), wi.data(), ld);
     for (int pass = 0; pass < 2; ++pass) {
-      const double before = squared_norm(wr.data(), wi.data(), ld);
       for (Eigen::Index j = 0; j <= k; ++j) coeff[j] = dot(vr(j), vi(j), wr.data(), wi.data(), ld);
       for (Eigen::Index j = 0; j <= k; ++j) subtract_multiple(coeff[j], vr(j), vi(j), wr.data(), wi.data(), ld);
-      if (squared_norm(wr.data(), wi.data(), ld) > 0.5 * before) break;
+      w2 = squared_norm(wr.data(), wi.data(), ld);
+      if (w2 > 0.5 * before) break;
+      before = w2;
     }
   }
   return k;
