@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <optional>
 #include <vector>
 
@@ -17,56 +18,33 @@ namespace {
 // *witness (if given) gets z = (-L11^-H r^H, 1, 0 ...), r the computed part of L's row k, for
 // which z^H (G - sI) z is that pivot (<= 0): a vector with Rayleigh quotient <= s.
 //
-// Right-looking on a copy of G's split planes (lower triangle), each column update in chunks of
-// kernels::kLanes rows as fixed-size Eigen arrays (vectorised): no call per column. Eigen's
+// The factorisation is the kernels' shifted_cholesky (right-looking on a copy of G's split
+// planes, each column update a run of whole vectors at the instruction set's width). Eigen's
 // unblocked factorisation made a matrix-vector call per column, whose setup cost more than its
 // arithmetic at 16 x 16, on a dense copy of G that had to be converted from the planes first.
-bool cholesky_fails(const kernels::GramPlanes& G, double s, Eigen::VectorXcd* witness = nullptr) {
-  constexpr int kL = kernels::kLanes;
-  using Chunk = Eigen::Array<double, kL, 1>;
+bool cholesky_fails(const kernels::Kernels& kern, const kernels::GramPlanes& G, double s,
+                    Eigen::VectorXcd* witness = nullptr) {
   const int n = G.n, ld = G.ld;
-  thread_local std::vector<double> Lr, Li;  // A = G - sI, overwritten by L column by column
-  Lr.assign(G.re, G.re + static_cast<std::ptrdiff_t>(ld) * n);
-  Li.assign(G.im, G.im + static_cast<std::ptrdiff_t>(ld) * n);
-  const auto at = [&](int i, int j) { return static_cast<std::ptrdiff_t>(j) * ld + i; };
-  for (int j = 0; j < n; ++j) Lr[at(j, j)] -= s;
-  for (int j = 0; j < n; ++j) {
-    const double pivot = Lr[at(j, j)];
-    if (!(pivot > 0.0)) {
-      if (std::isnan(pivot)) return false;  // proves nothing
-      if (witness) {
-        // z = (y, 1, 0 ...) with L11^H y = -r^H, r = L's row j (its computed part).
-        const auto L = [&](int i, int c) { return std::complex<double>(Lr[at(i, c)], Li[at(i, c)]); };
-        witness->setZero(n);
-        (*witness)(j) = 1.0;
-        for (int i = j - 1; i >= 0; --i) {
-          std::complex<double> sum = -std::conj(L(j, i));
-          for (int c = i + 1; c < j; ++c) sum -= std::conj(L(c, i)) * (*witness)(c);
-          (*witness)(i) = sum / Lr[at(i, i)];
-        }
-      }
-      return true;
-    }
-    const double l_jj = std::sqrt(pivot);
-    Lr[at(j, j)] = l_jj;
-    Li[at(j, j)] = 0.0;
-    for (int i = j + 1; i < n; ++i) {
-      Lr[at(i, j)] /= l_jj;
-      Li[at(i, j)] /= l_jj;
-    }
-    // Column k > j, rows from k's chunk on: A_ik -= L_ij conj(L_kj). (The rows above k in that
-    // chunk are the upper triangle, never read.)
-    for (int k = j + 1; k < n; ++k) {
-      const double ar = Lr[at(k, j)], ai = Li[at(k, j)];
-      for (int i = k / kL * kL; i < ld; i += kL) {
-        const Eigen::Map<const Chunk> lr(&Lr[at(i, j)]), li(&Li[at(i, j)]);
-        Eigen::Map<Chunk> kr(&Lr[at(i, k)]), ki(&Li[at(i, k)]);
-        kr -= lr * ar + li * ai;
-        ki -= li * ar - lr * ai;
-      }
+  thread_local std::vector<double> Lr, Li;
+  Lr.resize(static_cast<std::size_t>(ld) * n);
+  Li.resize(Lr.size());
+  const int j = kern.shifted_cholesky(G, s, Lr.data(), Li.data());
+  if (j < 0 || j == n) return false;  // a NaN pivot proves nothing; G - sI > 0 neither
+  if (witness) {
+    // z = (y, 1, 0 ...) with L11^H y = -r^H, r = L's row j (its computed part).
+    const auto L = [&](int i, int c) {
+      const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(c) * ld + i;
+      return std::complex<double>(Lr[at], Li[at]);
+    };
+    witness->setZero(n);
+    (*witness)(j) = 1.0;
+    for (int i = j - 1; i >= 0; --i) {
+      std::complex<double> sum = -std::conj(L(j, i));
+      for (int c = i + 1; c < j; ++c) sum -= std::conj(L(c, i)) * (*witness)(c);
+      (*witness)(i) = sum / L(i, i).real();
     }
   }
-  return false;
+  return true;
 }
 
 // v / |v| into out, or false if |v| is zero or not finite.
@@ -149,7 +127,7 @@ bool icn_below_impl(const Eigen::VectorXd& diag, int num_rows, double threshold,
   const kernels::GramPlanes G = planes();
   const double s1 = shift_below(lambda_lo);
   thread_local Eigen::VectorXcd z;
-  if (s1 > 0.0 && cholesky_fails(G, s1, warm ? &z : nullptr)) {
+  if (s1 > 0.0 && cholesky_fails(kern, G, s1, warm ? &z : nullptr)) {
     // The failure's witness (R(z) <= s1) as the next call's bottom vector: G changes little.
     if (warm) normalized_into(z, warm->bottom);
     return true;
@@ -171,7 +149,7 @@ bool icn_below_impl(const Eigen::VectorXd& diag, int num_rows, double threshold,
   const double s2 = shift_below(theta_max);
   if (!(s2 > 0.0)) return false;
   if (theta_min + margin < s2) return true;
-  return s2 > s1 && cholesky_fails(G, s2);
+  return s2 > s1 && cholesky_fails(kern, G, s2);
 }
 }  // namespace
 

@@ -156,6 +156,33 @@ void hermitian_matvec(const GramPlanes& G, const double* vr, const double* vi, d
   }
 }
 
+int shifted_cholesky(const GramPlanes& G, double s, double* Lr, double* Li) {
+  const int n = G.n, ld = G.ld;
+  std::vector<cd> L(static_cast<std::size_t>(ld) * n);
+  for (int k = 0; k < n; ++k) {
+    for (int l = 0; l < ld; ++l) L[l + k * ld] = gram(G, l, k) - (l == k ? s : 0.0);
+  }
+  int result = n;
+  for (int j = 0; j < n && result == n; ++j) {
+    const double pivot = L[j + j * ld].real();
+    if (!(pivot > 0.0)) {
+      result = std::isnan(pivot) ? -1 : j;
+      break;
+    }
+    const double l_jj = std::sqrt(pivot);
+    L[j + j * ld] = l_jj;
+    for (int i = j + 1; i < n; ++i) L[i + j * ld] /= l_jj;
+    for (int k = j + 1; k < n; ++k) {
+      for (int i = k; i < n; ++i) L[i + k * ld] -= L[i + j * ld] * std::conj(L[k + j * ld]);
+    }
+  }
+  for (std::size_t i = 0; i < L.size(); ++i) {
+    Lr[i] = L[i].real();
+    Li[i] = L[i].imag();
+  }
+  return result;
+}
+
 std::uint64_t counter_u64(std::uint64_t key, std::uint64_t j) {
   std::uint64_t z = key + (j + 1) * 0x9e3779b97f4a7c15ULL;
   z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
@@ -181,7 +208,8 @@ void normals(std::uint64_t key, std::uint64_t first_block, double* out, int bloc
 const Kernels& reference_kernels() {
   static const Kernels table = {Isa::kSse2,          &unit_phasors, &row,        &rows_lanes,
                                 &leave_one_out_energy, &objectives_lanes, &objective_of_row, &objective_at,
-                                &gradient,           &gram_update,  &gram_of_rows, &hermitian_matvec, &normals};
+                                &gradient,           &gram_update,  &gram_of_rows, &hermitian_matvec, &shifted_cholesky,
+                                &normals};
   return table;
 }
 

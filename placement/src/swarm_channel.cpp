@@ -71,9 +71,13 @@ const Eigen::MatrixXcd& SwarmChannel::gram() const {
 }
 
 bool SwarmChannel::gram_is_finite() const {
-  if (side_ == GramSide::kUavs) return detail::all_finite(uav_gram_);
-  return detail::all_finite(gram_re_.data(), static_cast<Eigen::Index>(gram_re_.size())) &&
-         detail::all_finite(gram_im_.data(), static_cast<Eigen::Index>(gram_im_.size()));
+  if (finite_version_ == version_) return gram_finite_;
+  gram_finite_ = side_ == GramSide::kUavs
+                     ? detail::all_finite(uav_gram_)
+                     : detail::all_finite(gram_re_.data(), static_cast<Eigen::Index>(gram_re_.size())) &&
+                           detail::all_finite(gram_im_.data(), static_cast<Eigen::Index>(gram_im_.size()));
+  finite_version_ = version_;
+  return gram_finite_;
 }
 
 double SwarmChannel::objective() const {

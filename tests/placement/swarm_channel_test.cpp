@@ -192,6 +192,11 @@ TEST(SwarmChannel, GramIsFinite_FindsAnInfOrNanEntryAnywhereInTheGram) {
       x(k) = {bad, 0.0};  // |x_k|^2 overflows to inf, or NaN: row and column k of G
       channel.set_row(3, x);
       EXPECT_FALSE(channel.gram_is_finite()) << bad << " at " << k;
+      EXPECT_FALSE(channel.gram_is_finite()) << "asked again";  // kept per channel version
+      channel.set_row(3, model.row(q.col(3)));  // the rank update leaves inf - inf or NaN in G
+      EXPECT_FALSE(channel.gram_is_finite()) << bad << " at " << k;
+      channel.refresh();  // G from the finite rows again
+      EXPECT_TRUE(channel.gram_is_finite()) << bad << " at " << k;
     }
   }
 }

@@ -100,6 +100,12 @@ struct Kernels {
   void (*gram_of_rows)(const double* Hr, const double* Hi, int nr, int n, int ld, double* G_re, double* G_im);
   // y = G v.
   void (*hermitian_matvec)(const GramPlanes& G, const double* vr, const double* vi, double* yr, double* yi);
+  // The Cholesky factorisation G - sI = L L^H from G's lower triangle (what is above it does
+  // not matter), right-looking, L (lower, real diagonal) into (Lr, Li) (ld x n, column-major;
+  // the entries above the diagonal are scratch). Returns n if every pivot is positive; else
+  // the first column j whose pivot is not (G - sI is not positive definite; L's columns
+  // 0 .. j-1 are complete), or -1 if that pivot is NaN (nothing proved).
+  int (*shifted_cholesky)(const GramPlanes& G, double s, double* Lr, double* Li);
   // Standard normal numbers of the counter-based stream `key`: blocks first_block ..
   // first_block + blocks - 1, kNormalsPerBlock numbers each, into out (kNormalsPerBlock blocks
   // doubles). Number i of a stream depends on (key, i) only (swarm.h has the definition).

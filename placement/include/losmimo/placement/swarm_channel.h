@@ -82,6 +82,9 @@ class SwarmChannel {
   // the same iteration ask for it in turn.
   mutable std::uint64_t objective_version_ = ~std::uint64_t{0};
   mutable double objective_ = 0.0;
+  // gram_is_finite() likewise (the run's health check and the ICN check ask in turn).
+  mutable std::uint64_t finite_version_ = ~std::uint64_t{0};
+  mutable bool gram_finite_ = true;
   Eigen::MatrixXcd uav_gram_;  // K on the UAV side (exactly Hermitian)
 };
 
