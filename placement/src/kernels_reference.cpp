@@ -183,6 +183,22 @@ int shifted_cholesky(const GramPlanes& G, double s, double* Lr, double* Li) {
   return result;
 }
 
+double reorthogonalise(const double* Vr, const double* Vi, int ld, int count, double* wr, double* wi) {
+  std::vector<cd> c(count);
+  for (int j = 0; j < count; ++j) {
+    for (int l = 0; l < ld; ++l) c[j] += std::conj(at(Vr + j * ld, Vi + j * ld, l)) * at(wr, wi, l);
+  }
+  double norm2 = 0.0;
+  for (int l = 0; l < ld; ++l) {
+    cd w = at(wr, wi, l);
+    for (int j = 0; j < count; ++j) w -= c[j] * at(Vr + j * ld, Vi + j * ld, l);
+    wr[l] = w.real();
+    wi[l] = w.imag();
+    norm2 += std::norm(w);
+  }
+  return norm2;
+}
+
 std::uint64_t counter_u64(std::uint64_t key, std::uint64_t j) {
   std::uint64_t z = key + (j + 1) * 0x9e3779b97f4a7c15ULL;
   z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
@@ -209,7 +225,7 @@ const Kernels& reference_kernels() {
   static const Kernels table = {Isa::kSse2,          &unit_phasors, &row,        &rows_lanes,
                                 &leave_one_out_energy, &objectives_lanes, &objective_of_row, &objective_at,
                                 &gradient,           &gram_update,  &gram_of_rows, &hermitian_matvec, &shifted_cholesky,
-                                &normals};
+                                &reorthogonalise,    &normals};
   return table;
 }
 

@@ -62,7 +62,6 @@ Eigen::Index lanczos(const kernels::Kernels& kern, const kernels::GramPlanes& G,
     }
   }
   thread_local std::vector<double> wr, wi;
-  thread_local std::vector<std::complex<double>> coeff;
   const std::ptrdiff_t heaviest_col = static_cast<std::ptrdiff_t>(k_max) * ld;
   wr.assign(G.re + heaviest_col, G.re + heaviest_col + ld);
   wi.assign(G.im + heaviest_col, G.im + heaviest_col + ld);
@@ -86,12 +85,9 @@ Eigen::Index lanczos(const kernels::Kernels& kern, const kernels::GramPlanes& G,
     basis.alpha(k) = dot(vr(k), vi(k), wr.data(), wi.data(), ld).real();
     subtract_multiple(basis.alpha(k), vr(k), vi(k), wr.data(), wi.data(), ld);
     if (k > 0) subtract_multiple(basis.beta(k - 1), vr(k - 1), vi(k - 1), wr.data(), wi.data(), ld);
-    coeff.resize(static_cast<std::size_t>(k) + 1);
     double before = squared_norm(wr.data(), wi.data(), ld);
     for (int pass = 0; pass < 2; ++pass) {
-      for (Eigen::Index j = 0; j <= k; ++j) coeff[j] = dot(vr(j), vi(j), wr.data(), wi.data(), ld);
-      for (Eigen::Index j = 0; j <= k; ++j) subtract_multiple(coeff[j], vr(j), vi(j), wr.data(), wi.data(), ld);
-      w2 = squared_norm(wr.data(), wi.data(), ld);
+      w2 = kern.reorthogonalise(basis.re.data(), basis.im.data(), ld, static_cast<int>(k) + 1, wr.data(), wi.data());
       if (w2 > 0.5 * before) break;
       before = w2;
     }

@@ -106,6 +106,11 @@ struct Kernels {
   // the first column j whose pivot is not (G - sI is not positive definite; L's columns
   // 0 .. j-1 are complete), or -1 if that pivot is NaN (nothing proved).
   int (*shifted_cholesky)(const GramPlanes& G, double s, double* Lr, double* Li);
+  // One Gram-Schmidt pass of w against the `count` orthonormal vectors v_j = (Vr + j ld,
+  // Vi + j ld): c_j = v_j^H w for every j first, then w -= c_j v_j in j order; returns |w|^2
+  // after. Each sum over antennas in 8 partial sums combined as ((s0 + s2) + (s4 + s6)) +
+  // ((s1 + s3) + (s5 + s7)) (the order of the Lanczos's Eigen arrays it replaced: the same bits).
+  double (*reorthogonalise)(const double* Vr, const double* Vi, int ld, int count, double* wr, double* wi);
   // Standard normal numbers of the counter-based stream `key`: blocks first_block ..
   // first_block + blocks - 1, kNormalsPerBlock numbers each, into out (kNormalsPerBlock blocks
   // doubles). Number i of a stream depends on (key, i) only (swarm.h has the definition).
