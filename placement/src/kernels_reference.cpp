@@ -163,7 +163,7 @@ int shifted_cholesky(const GramPlanes& G, double s, double* Lr, double* Li) {
     for (int l = 0; l < ld; ++l) L[l + k * ld] = gram(G, l, k) - (l == k ? s : 0.0);
   }
   int result = n;
-  for (int j = 0; j < n && result == n; ++j) {
+  for (int j = 0; j < n; ++j) {
     const double pivot = L[j + j * ld].real();
     if (!(pivot > 0.0)) {
       result = std::isnan(pivot) ? -1 : j;
