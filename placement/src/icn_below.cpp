@@ -13,25 +13,26 @@
 namespace losmimo::placement {
 
 namespace {
-// Cholesky of G - sI fails only if lambda_min(G - sI) <= c n^2 eps ||G||: so a failure with
-// this margin (far above that rounding) proves lambda_min(G) < s. On a failure at pivot k,
-// *witness (if given) gets z = (-L11^-H r^H, 1, 0 ...), r the computed part of L's row k, for
-// which z^H (G - sI) z is that pivot (<= 0): a vector with Rayleigh quotient <= s.
+// The L D L^H factorisation of G - sI (Cholesky's, without its square roots) fails only if
+// lambda_min(G - sI) <= c n^2 eps ||G||: so a failure with this margin (far above that
+// rounding) proves lambda_min(G) < s. On a failure at pivot k, *witness (if given) gets
+// z = (-L11^-H l^H, 1, 0 ...), l the computed part of the unit L's row k, for which
+// z^H (G - sI) z is that pivot (<= 0): a vector with Rayleigh quotient <= s.
 //
-// The factorisation is the kernels' shifted_cholesky (right-looking on a copy of G's split
+// The factorisation is the kernels' shifted_ldl (right-looking on a copy of G's split
 // planes, each column update a run of whole vectors at the instruction set's width). Eigen's
 // unblocked factorisation made a matrix-vector call per column, whose setup cost more than its
 // arithmetic at 16 x 16, on a dense copy of G that had to be converted from the planes first.
-bool cholesky_fails(const kernels::Kernels& kern, const kernels::GramPlanes& G, double s,
+bool ldl_fails(const kernels::Kernels& kern, const kernels::GramPlanes& G, double s,
                     Eigen::VectorXcd* witness = nullptr) {
   const int n = G.n, ld = G.ld;
   thread_local std::vector<double> Lr, Li;
   Lr.resize(static_cast<std::size_t>(ld) * n);
   Li.resize(Lr.size());
-  const int j = kern.shifted_cholesky(G, s, Lr.data(), Li.data());
+  const int j = kern.shifted_ldl(G, s, Lr.data(), Li.data());
   if (j < 0 || j == n) return false;  // a NaN pivot proves nothing; G - sI > 0 neither
   if (witness) {
-    // z = (y, 1, 0 ...) with L11^H y = -r^H, r = L's row j (its computed part).
+    // z = (y, 1, 0 ...) with L11^H y = -l^H, l = L's row j (its computed part; L11 unit).
     const auto L = [&](int i, int c) {
       const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(c) * ld + i;
       return std::complex<double>(Lr[at], Li[at]);
@@ -41,7 +42,7 @@ bool cholesky_fails(const kernels::Kernels& kern, const kernels::GramPlanes& G, 
     for (int i = j - 1; i >= 0; --i) {
       std::complex<double> sum = -std::conj(L(j, i));
       for (int c = i + 1; c < j; ++c) sum -= std::conj(L(c, i)) * (*witness)(c);
-      (*witness)(i) = sum / L(i, i).real();
+      (*witness)(i) = sum;
     }
   }
   return true;
@@ -127,7 +128,7 @@ bool icn_below_impl(const Eigen::VectorXd& diag, int num_rows, double threshold,
   const kernels::GramPlanes G = planes();
   const double s1 = shift_below(lambda_lo);
   thread_local Eigen::VectorXcd z;
-  if (s1 > 0.0 && cholesky_fails(kern, G, s1, warm ? &z : nullptr)) {
+  if (s1 > 0.0 && ldl_fails(kern, G, s1, warm ? &z : nullptr)) {
     // The failure's witness (R(z) <= s1) as the next call's bottom vector: G changes little.
     if (warm) normalized_into(z, warm->bottom);
     return true;
@@ -149,7 +150,7 @@ bool icn_below_impl(const Eigen::VectorXd& diag, int num_rows, double threshold,
   const double s2 = shift_below(theta_max);
   if (!(s2 > 0.0)) return false;
   if (theta_min + margin < s2) return true;
-  return s2 > s1 && cholesky_fails(kern, G, s2);
+  return s2 > s1 && ldl_fails(kern, G, s2);
 }
 }  // namespace
 

@@ -156,7 +156,7 @@ void hermitian_matvec(const GramPlanes& G, const double* vr, const double* vi, d
   }
 }
 
-int shifted_cholesky(const GramPlanes& G, double s, double* Lr, double* Li) {
+int shifted_ldl(const GramPlanes& G, double s, double* Lr, double* Li) {
   const int n = G.n, ld = G.ld;
   std::vector<cd> L(static_cast<std::size_t>(ld) * n);
   for (int k = 0; k < n; ++k) {
@@ -164,16 +164,16 @@ int shifted_cholesky(const GramPlanes& G, double s, double* Lr, double* Li) {
   }
   int result = n;
   for (int j = 0; j < n; ++j) {
-    const double pivot = L[j + j * ld].real();
-    if (!(pivot > 0.0)) {
-      result = std::isnan(pivot) ? -1 : j;
+    const double d = L[j + j * ld].real();
+    if (!(d > 0.0)) {
+      result = std::isnan(d) ? -1 : j;
       break;
     }
-    const double l_jj = std::sqrt(pivot);
-    L[j + j * ld] = l_jj;
-    for (int i = j + 1; i < n; ++i) L[i + j * ld] /= l_jj;
+    L[j + j * ld] = d;
+    for (int i = j + 1; i < n; ++i) L[i + j * ld] /= d;
+    // A_ik -= L_ij d conj(L_kj)
     for (int k = j + 1; k < n; ++k) {
-      for (int i = k; i < n; ++i) L[i + k * ld] -= L[i + j * ld] * std::conj(L[k + j * ld]);
+      for (int i = k; i < n; ++i) L[i + k * ld] -= L[i + j * ld] * d * std::conj(L[k + j * ld]);
     }
   }
   for (std::size_t i = 0; i < L.size(); ++i) {
@@ -224,7 +224,7 @@ void normals(std::uint64_t key, std::uint64_t first_block, double* out, int bloc
 const Kernels& reference_kernels() {
   static const Kernels table = {Isa::kSse2,          &unit_phasors, &row,        &rows_lanes,
                                 &leave_one_out_energy, &objectives_lanes, &objective_of_row, &objective_at,
-                                &gradient,           &gram_update,  &gram_of_rows, &hermitian_matvec, &shifted_cholesky,
+                                &gradient,           &gram_update,  &gram_of_rows, &hermitian_matvec, &shifted_ldl,
                                 &reorthogonalise,    &normals};
   return table;
 }

@@ -15,8 +15,8 @@
 //   BF UAV step = rows_lanes + objectives_lanes: 440 n + 38 n^2 + 96 n;
 //   objective_of_row: 8 n^2 (conj(G) x) + 36 n; objective_at: + 55 n; gradient: + 30 n more;
 //   gram_update: 14 n^2; gram_of_rows: 8 n^2 nr (nr = n rows); leave_one_out_energy: 12 n^2;
-//   hermitian_matvec: 8 n^2; shifted_cholesky (to the end): 8 n^3 / 6 (n^3 / 6 complex
-//     multiply-adds in the updates; the divisions and square roots not counted);
+//   hermitian_matvec: 8 n^2; shifted_ldl (to the end): 8 n^3 / 6 (n^3 / 6 complex
+//     multiply-adds in the updates; the divisions not counted);
 //   normals: 83 per pair (log 31, sincos 45, the rest 7).
 // BM_MemoryRead: read bandwidth for a working set, to judge the Nt = 256 kernels, whose
 // Gram matrix (2 planes x 256 x 256 doubles = 1 MiB) no longer fits this core's L1/L2.
@@ -330,14 +330,14 @@ void BM_Kernel_HermitianMatvec(benchmark::State& state) {
 BENCHMARK(BM_Kernel_HermitianMatvec)->Apply(KernelArgs);
 
 // The whole factorisation (s = 0: G is positive definite), icn_below's longest case.
-void BM_Kernel_ShiftedCholesky(benchmark::State& state) {
+void BM_Kernel_ShiftedLdl(benchmark::State& state) {
   const lk::Kernels* k = kernels_of(state);
   if (!k) return;
   const Inputs in(static_cast<int>(state.range(0)));
   std::vector<double> lr(in.gr.size()), li(in.gr.size());
   int result = 0;
   for (auto _ : state) {
-    result = k->shifted_cholesky(in.gram(), 0.0, lr.data(), li.data());
+    result = k->shifted_ldl(in.gram(), 0.0, lr.data(), li.data());
     benchmark::DoNotOptimize(lr.data());
     benchmark::ClobberMemory();
   }
@@ -345,7 +345,7 @@ void BM_Kernel_ShiftedCholesky(benchmark::State& state) {
   const double n = in.n();
   set_flop_counters(state, k->isa, 8.0 * n * n * n / 6);
 }
-BENCHMARK(BM_Kernel_ShiftedCholesky)->Apply(KernelArgs);
+BENCHMARK(BM_Kernel_ShiftedLdl)->Apply(KernelArgs);
 
 void BM_Kernel_Normals(benchmark::State& state) {
   const lk::Kernels* k = kernels_of(state, 0);

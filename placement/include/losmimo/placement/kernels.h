@@ -100,12 +100,13 @@ struct Kernels {
   void (*gram_of_rows)(const double* Hr, const double* Hi, int nr, int n, int ld, double* G_re, double* G_im);
   // y = G v.
   void (*hermitian_matvec)(const GramPlanes& G, const double* vr, const double* vi, double* yr, double* yi);
-  // The Cholesky factorisation G - sI = L L^H from G's lower triangle (what is above it does
-  // not matter), right-looking, L (lower, real diagonal) into (Lr, Li) (ld x n, column-major;
-  // the entries above the diagonal are scratch). Returns n if every pivot is positive; else
-  // the first column j whose pivot is not (G - sI is not positive definite; L's columns
-  // 0 .. j-1 are complete), or -1 if that pivot is NaN (nothing proved).
-  int (*shifted_cholesky)(const GramPlanes& G, double s, double* Lr, double* Li);
+  // The factorisation G - sI = L D L^H from G's lower triangle (what is above it does not
+  // matter), right-looking: L unit lower triangular below the diagonal of (Lr, Li) (ld x n,
+  // column-major), the real pivots d_j on it (Li 0 there; the entries above are scratch). No
+  // square roots: it only proves (a pivot d_j <= 0 says G - sI is not positive definite).
+  // Returns n if every pivot is positive; else the first column j whose pivot is not (columns
+  // 0 .. j-1 complete), or -1 if that pivot is NaN (nothing proved).
+  int (*shifted_ldl)(const GramPlanes& G, double s, double* Lr, double* Li);
   // One Gram-Schmidt pass of w against the `count` orthonormal vectors v_j = (Vr + j ld,
   // Vi + j ld): c_j = v_j^H w for every j first, then w -= c_j v_j in j order; returns |w|^2
   // after. Each sum over antennas in 8 partial sums combined as ((s0 + s2) + (s4 + s6)) +

@@ -1,7 +1,7 @@
-// The kernels' shifted_cholesky (kernels.h), the factorisation behind icn_below's proof, on
-// every instruction-set build: against an independent check (L L^H rebuilt with Eigen, and
-// where it fails, the leading minors' eigenvalues), against the scalar reference, and the
-// same bits on every build.
+// The kernels' shifted_ldl (kernels.h), the factorisation behind icn_below's proof, on every
+// instruction-set build: against independent checks (L D L^H rebuilt with Eigen; where it
+// fails, the leading minors' eigenvalues and the failing pivot against the Schur complement
+// Eigen computes), against the scalar reference, and the same bits on every build.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -56,11 +56,11 @@ Factor factor(const lk::Kernels& k, const Planes& p, double s) {
   Factor f;
   f.re.assign(p.re.size(), 0.0);
   f.im.assign(p.re.size(), 0.0);
-  f.result = k.shifted_cholesky(p.view(), s, f.re.data(), f.im.data());
+  f.result = k.shifted_ldl(p.view(), s, f.re.data(), f.im.data());
   return f;
 }
 
-// The lower triangle of the first `cols` columns of L as an Eigen matrix.
+// The lower triangle of the first `cols` columns of the output (pivots on the diagonal).
 Eigen::MatrixXcd lower(const Factor& f, int n, int ld, int cols) {
   Eigen::MatrixXcd L = Eigen::MatrixXcd::Zero(n, cols);
   for (int c = 0; c < cols; ++c) {
@@ -69,13 +69,21 @@ Eigen::MatrixXcd lower(const Factor& f, int n, int ld, int cols) {
   return L;
 }
 
+// L D L^H from the first `cols` columns: L unit lower, D the pivots.
+Eigen::MatrixXcd ldl_product(const Factor& f, int n, int ld, int cols) {
+  Eigen::MatrixXcd L = lower(f, n, ld, cols);
+  const Eigen::VectorXd d = L.diagonal().real();
+  L.diagonal().setOnes();
+  return L * d.asDiagonal() * L.adjoint();
+}
+
 double smallest_eigenvalue(const Eigen::MatrixXcd& A) {
   return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd>(A, Eigen::EigenvaluesOnly).eigenvalues()(0);
 }
 
 }  // namespace
 
-TEST(ShiftedCholesky, BelowTheSpectrum_FactorsGMinusSI_OnEveryBuild_WithTheSameBits) {
+TEST(ShiftedLdl, BelowTheSpectrum_FactorsGMinusSI_OnEveryBuild_WithTheSameBits) {
   for (const int n : {16, 12, 64}) {
     const Planes p = random_gram(n, n + 4, 100 + n);
     const Eigen::VectorXd eig = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd>(p.G).eigenvalues();
@@ -88,8 +96,11 @@ TEST(ShiftedCholesky, BelowTheSpectrum_FactorsGMinusSI_OnEveryBuild_WithTheSameB
       const Factor f = factor(lk::kernels_for(isa), p, s);
       ASSERT_EQ(f.result, n) << lp::to_string(isa);
       const Eigen::MatrixXcd L = lower(f, n, p.ld, n);
-      EXPECT_LE((L * L.adjoint() - A).norm(), 1e-12 * A.norm()) << lp::to_string(isa) << " n " << n;
-      for (int i = 0; i < n; ++i) EXPECT_EQ(L(i, i).imag(), 0.0);
+      EXPECT_LE((ldl_product(f, n, p.ld, n) - A).norm(), 1e-12 * A.norm()) << lp::to_string(isa) << " n " << n;
+      for (int i = 0; i < n; ++i) {
+        EXPECT_GT(L(i, i).real(), 0.0);
+        EXPECT_EQ(L(i, i).imag(), 0.0);
+      }
       const Eigen::MatrixXcd R = lower(ref, n, p.ld, n);
       EXPECT_LE((L - R).norm(), 1e-12 * R.norm()) << lp::to_string(isa);
       std::vector<double> bits;
@@ -105,7 +116,7 @@ TEST(ShiftedCholesky, BelowTheSpectrum_FactorsGMinusSI_OnEveryBuild_WithTheSameB
   }
 }
 
-TEST(ShiftedCholesky, InsideTheSpectrum_StopsAtTheFirstLeadingMinorThatIsNotPositiveDefinite) {
+TEST(ShiftedLdl, InsideTheSpectrum_StopsAtTheFirstLeadingMinorThatIsNotPositiveDefinite) {
   for (const int n : {16, 12, 64}) {
     const Planes p = random_gram(n, n + 4, 200 + n);
     const Eigen::VectorXd eig = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd>(p.G).eigenvalues();
@@ -124,16 +135,32 @@ TEST(ShiftedCholesky, InsideTheSpectrum_StopsAtTheFirstLeadingMinorThatIsNotPosi
         const double tol = 1e-10 * A.norm();
         if (j > 0) {
           EXPECT_GT(smallest_eigenvalue(A.topLeftCorner(j, j)), -tol);
-          const Eigen::MatrixXcd L = lower(f, j, p.ld, j);
-          EXPECT_LE((L * L.adjoint() - A.topLeftCorner(j, j)).norm(), 1e-12 * A.norm());
+          EXPECT_LE((ldl_product(f, j, p.ld, j) - A.topLeftCorner(j, j)).norm(), 1e-12 * A.norm());
         }
         EXPECT_LT(smallest_eigenvalue(A.topLeftCorner(j + 1, j + 1)), tol);
+        // icn_below's witness: z = (y, 1, 0 ...) with L11^H y = -l^H (l the unit L's row j) has
+        // z^H A z = the Schur complement A_jj - a^H A11^-1 a <= 0, a = A's column j above row j.
+        Eigen::VectorXcd z = Eigen::VectorXcd::Zero(n);
+        z(j) = 1.0;
+        if (j > 0) {
+          Eigen::MatrixXcd L11 = lower(f, j, p.ld, j);
+          L11.diagonal().setOnes();
+          Eigen::VectorXcd l(j);
+          for (int c = 0; c < j; ++c) l(c) = {f.re[j + c * p.ld], f.im[j + c * p.ld]};
+          z.head(j) = L11.adjoint().triangularView<Eigen::Upper>().solve(-l.conjugate());
+        }
+        const Eigen::MatrixXcd A11 = A.topLeftCorner(j, j);
+        const Eigen::VectorXcd a = A.col(j).head(j);
+        const double schur = A(j, j).real() - (j > 0 ? (a.adjoint() * A11.ldlt().solve(a))(0).real() : 0.0);
+        const double quotient = (z.adjoint() * A * z)(0).real();
+        EXPECT_LE(schur, tol) << lp::to_string(isa);
+        EXPECT_NEAR(quotient, schur, 1e-9 * A.norm() * z.squaredNorm()) << lp::to_string(isa);
       }
     }
   }
 }
 
-TEST(ShiftedCholesky, ANaNInG_ReturnsMinusOne_NeverAColumn) {
+TEST(ShiftedLdl, ANaNInG_ReturnsMinusOne_NeverAColumn) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   // A diagonal entry, one below the diagonal (the kernel reads only the lower triangle), the last.
   for (const int entry : {0, 5 + 3 * 16, 15 + 15 * 16}) {
@@ -143,5 +170,34 @@ TEST(ShiftedCholesky, ANaNInG_ReturnsMinusOne_NeverAColumn) {
       EXPECT_EQ(factor(lk::kernels_for(isa), p, 1e-3).result, -1) << lp::to_string(isa) << " entry " << entry;
     }
     EXPECT_EQ(factor(lk::reference_kernels(), p, 1e-3).result, -1);
+  }
+}
+
+TEST(ShiftedLdl, TheUnrolledSixteenAndTheAnySizePath_GiveTheSameBits) {
+  // Nt = 16 at ld = 16 takes the compile-time path; the same G at ld = 24 the any-size one.
+  const Planes p = random_gram(16, 20, 400);
+  Planes wide = p;
+  wide.ld = 24;
+  wide.re.assign(static_cast<std::size_t>(wide.ld) * 16, 0.0);
+  wide.im.assign(wide.re.size(), 0.0);
+  for (int k = 0; k < 16; ++k) {
+    for (int l = 0; l < 16; ++l) {
+      wide.re[l + k * wide.ld] = p.re[l + k * p.ld];
+      wide.im[l + k * wide.ld] = p.im[l + k * p.ld];
+    }
+  }
+  const Eigen::VectorXd eig = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd>(p.G).eigenvalues();
+  for (const double s : {0.5 * eig(0), 0.5 * (eig(7) + eig(8))}) {
+    for (const lp::Isa isa : lp::supported_isas()) {
+      const Factor a = factor(lk::kernels_for(isa), p, s), b = factor(lk::kernels_for(isa), wide, s);
+      ASSERT_EQ(a.result, b.result) << lp::to_string(isa);
+      const int cols = a.result == 16 ? 16 : a.result;
+      for (int c = 0; c < cols; ++c) {
+        for (int i = c; i < 16; ++i) {
+          EXPECT_EQ(a.re[i + c * 16], b.re[i + c * 24]) << lp::to_string(isa) << " (" << i << ", " << c << ")";
+          EXPECT_EQ(a.im[i + c * 16], b.im[i + c * 24]) << lp::to_string(isa) << " (" << i << ", " << c << ")";
+        }
+      }
+    }
   }
 }
