@@ -91,7 +91,7 @@ struct Kernels {
   double (*gradient)(const RowGeometry& g, const GramPlanes& G, const double* or_, const double* oi,
                      double F_A, const double q_m[3], double* grad);
   // G += conj(x) x^T - conj(o) o^T over the whole matrix: entry (k, l) gets exactly the
-  // conjugate of entry (l, k), so G stays Hermitian bit for bit.
+  // conjugate of entry (l, k), so G stays Hermitian bit for bit. G must not overlap x or o.
   void (*gram_update)(double* G_re, double* G_im, int n, int ld, const double* xr, const double* xi,
                       const double* or_, const double* oi);
   // G = sum_m conj(h_m) h_m^T of the nr rows h_m = (Hr + m ld, Hi + m ld), the whole n x n
