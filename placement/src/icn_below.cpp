@@ -19,8 +19,8 @@ namespace {
 // z = (-L11^-H l^H, 1, 0 ...), l the computed part of the unit L's row k, for which
 // z^H (G - sI) z is that pivot (<= 0): a vector with Rayleigh quotient <= s.
 //
-// The factorisation is the kernels' shifted_ldl (right-looking on a copy of G's split
-// planes, each column update a run of whole vectors at the instruction set's width). Eigen's
+// The factorisation is the kernels' shifted_ldl (left-looking on G's split planes, each
+// column summed in whole vectors at the instruction set's width). Eigen's
 // unblocked factorisation made a matrix-vector call per column, whose setup cost more than its
 // arithmetic at 16 x 16, on a dense copy of G that had to be converted from the planes first.
 bool ldl_fails(const kernels::Kernels& kern, const kernels::GramPlanes& G, double s,
