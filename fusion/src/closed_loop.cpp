@@ -34,18 +34,12 @@ Eigen::Vector3d bf_probe_direction(int probe) {
   return probe >= 0 && probe < 7 ? kDirections[probe] : Eigen::Vector3d::Zero();
 }
 
-double nees(const localization::Belief& b, const Eigen::Vector3d& truth_m) {
-  const Eigen::Vector3d e = b.mean_m - truth_m;
-  return e.dot(b.cov_m2.ldlt().solve(e));
-}
-
 }  // namespace
 
 // Everything one UAV owns: its sensors, filter, refiner and CSI generator, each seeded.
 struct ClosedLoopPlanner::Uav {
   localization::SensorSimulator simulator;
-  std::unique_ptr<localization::PositionFilter> filter;
-  std::optional<SlidingWindowRefiner> refiner;
+  UavEstimator estimator;
   std::mt19937_64 csi_rng;
   Eigen::Vector3d last_q_m = Eigen::Vector3d::Zero();  // true position at the last epoch
   double bf_step_scale = 1.0;                          // BF's compass factor (bf.h)
@@ -90,7 +84,9 @@ void ClosedLoopPlanner::start(placement::Swarm& swarm) {
   heard_.assign(nr, 0);
   silent_since_.assign(nr, 0);
   fault_.reset();
-  sums_ = Sums{};
+  placed_errors_ = {};
+  filter_errors_ = {};
+  beacon_only_errors_ = {};
   modes_ = ClosedLoopStats{};
   modes_.gd_iterations.assign(nr, 0);
   modes_.bf_fallback_iterations.assign(nr, 0);
@@ -107,65 +103,27 @@ void ClosedLoopPlanner::start(placement::Swarm& swarm) {
     for (int m = 0; m < nr; ++m) filter_seeds[m] = derive_seed(seed_, Stream::kFilter, m);
     observer_->on_start(filter_seeds);
   }
+  const localization::Belief prior = localization::start_cube_prior(scenario_, config_.filter);
+  const EstimatorConfig estimator{config_.filter_kind, config_.filter, config_.refine, config_.refinement};
   for (int m = 0; m < nr; ++m) {
     localization::SimulatorConfig sim = config_.simulator;
     for (const UavBeaconOutage& o : config_.outages) {
       if (o.uav == m) sim.outages.push_back(o.window);
     }
     Uav uav{localization::SensorSimulator(sim, derive_seed(seed_, Stream::kSimulator, m)),
-            nullptr, std::nullopt, std::mt19937_64(derive_seed(seed_, Stream::kCsi, m)),
-            swarm.true_positions_m().col(m), 1.0};
+            UavEstimator(scenario_, estimator, prior, derive_seed(seed_, Stream::kFilter, m)),
+            std::mt19937_64(derive_seed(seed_, Stream::kCsi, m)), swarm.true_positions_m().col(m), 1.0};
     const Eigen::Vector3d q = uav.last_q_m;
     // Epoch 0 belongs to iteration 1: a UAV unresponsive from iteration 1 delivers nothing.
     const bool silent = unresponsive(m, 1);
-    std::optional<localization::BeaconMeasurement> z0;
-    if (!silent) z0 = uav.simulator.measure_beacon(q, 0);
-    if (z0 && fault_active(UavFaultKind::kNanBeacon, m, 1))
-      z0->range_m = std::numeric_limits<double>::quiet_NaN();
-    // The epoch-0 rule (localization/initial_belief.h): the beacon fix if the beacon passes the
-    // filter's plausibility screen and the fix is healthy, else the start-cube prior.
     heard_[m] = silent ? 0 : 1;
-    const localization::InitialBelief start =
-        localization::initial_belief(z0, config_.filter, localization::start_cube_prior(scenario_, config_.filter));
-    if (start.source == localization::InitialBeliefSource::kPriorImplausibleBeacon) ++modes_.rejected_beacons[m];
-    if (start.beacon_fix) {
-      sums_.beacon_sq_m2 += (start.beacon_fix->mean_m - q).squaredNorm();
-      sums_.beacon_lateral_sq_m2 += (start.beacon_fix->mean_m - q).tail<2>().squaredNorm();
-      ++sums_.beacons;
-    }
-    if (start.source == localization::InitialBeliefSource::kPriorHealthProblem && !fault_) {
-      // e.g. a fix from an absurd (finite) beacon range: the run ends at iteration 0; the
-      // filter, which would refuse such a belief, starts from the prior meanwhile.
-      fault_ = placement::PlannerFault{placement::RunStatus::kNumericalFault, m,
-                                       "UAV " + std::to_string(m) + ": initial beacon fix " +
-                                           start.health_problem + " at epoch 0"};
-    }
-    if (!start.beacon_used()) z0.reset();
-    const localization::Belief initial = start.belief;
-    uav.filter = localization::make_filter(config_.filter_kind, config_.filter, initial,
-                                           derive_seed(seed_, Stream::kFilter, m));
-    localization::Belief belief = initial;
-    std::optional<CsiMeasurement> observed_csi;
-    if (config_.refine) {
-      uav.refiner.emplace(scenario_, config_.refinement);
-      std::vector<CsiMeasurement> csi = measure_csi(m, q, 1, uav.csi_rng);
-      if (observer_ && !csi.empty()) observed_csi = csi.front();
-      uav.refiner->add_epoch({initial, std::nullopt, z0, std::move(csi)});
-      const RefinementResult r = uav.refiner->refine();
-      if (r.covariance_source == CovarianceSource::kDeadReckoning) ++modes_.refinement_covariance_fallbacks;
-      belief = r.belief;
-    }
-    beliefs_[m] = belief;
-    check_beliefs(m, 0, uav, initial, belief);
-    if (observer_) observer_->on_epoch({0, m, q, std::nullopt, z0, observed_csi, initial, belief});
-    const Eigen::Vector3d e = belief.mean_m - q, e_f = initial.mean_m - q;
-    sums_.sq_m2 += e.squaredNorm();
-    sums_.lateral_sq_m2 += e.tail<2>().squaredNorm();
-    sums_.nees += nees(belief, q);
-    sums_.filter_sq_m2 += e_f.squaredNorm();
-    sums_.filter_lateral_sq_m2 += e_f.tail<2>().squaredNorm();
-    sums_.filter_nees += nees(initial, q);
-    ++sums_.samples;
+    EpochMeasurements in;
+    if (!silent) in.beacon = uav.simulator.measure_beacon(q, 0);
+    if (in.beacon && fault_active(UavFaultKind::kNanBeacon, m, 1))
+      in.beacon->range_m = std::numeric_limits<double>::quiet_NaN();
+    if (config_.refine) in.csi = measure_csi(m, q, 1, uav.csi_rng);
+    const EpochEstimate est = uav.estimator.start(std::move(in));
+    record_epoch(m, 0, q, est);
     uavs_.push_back(std::move(uav));
   }
   modes_.num_epochs = 1;
@@ -178,59 +136,44 @@ void ClosedLoopPlanner::localize(placement::Swarm& swarm, int epoch) {
     heard_[m] = 1;  // a reading arrived, finite or not
     Uav& uav = uavs_[m];
     const Eigen::Vector3d q = swarm.true_positions_m().col(m);
-    Eigen::Vector3d d_meas = uav.simulator.measure_displacement(q - uav.last_q_m);
+    EpochMeasurements in;
+    in.displacement_m = uav.simulator.measure_displacement(q - uav.last_q_m);
     uav.last_q_m = q;
-    std::optional<localization::BeaconMeasurement> z = uav.simulator.measure_beacon(q, epoch);
-    // Injected faults, then the master's screening: nothing non-finite or implausible goes further.
+    in.beacon = uav.simulator.measure_beacon(q, epoch);
     if (fault_active(UavFaultKind::kNanDisplacement, m, iteration))
-      d_meas.x() = std::numeric_limits<double>::quiet_NaN();
-    if (z && fault_active(UavFaultKind::kNanBeacon, m, iteration))
-      z->range_m = std::numeric_limits<double>::quiet_NaN();
-    std::optional<Eigen::Vector3d> d_used = d_meas;
-    if (!d_meas.allFinite()) {
-      ++modes_.rejected_displacements[m];
-      d_used.reset();
-    }
-    // Implausible beacons too: the refinement would take them as residuals.
-    if (z && !localization::is_plausible(config_.filter, *z)) {
-      ++modes_.rejected_beacons[m];
-      z.reset();
-    }
-    // A missing displacement is the filter's documented NaN input (filter.h: predict with d = 0
-    // and missing_displacement_sigma_m), as in the rawlog replay.
-    uav.filter->step(d_used.value_or(Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())), z);
-    const localization::Belief filtered = uav.filter->belief();
-    localization::Belief belief = filtered;
-    std::optional<CsiMeasurement> observed_csi;
-    if (uav.refiner) {
-      std::vector<CsiMeasurement> csi = measure_csi(m, q, iteration, uav.csi_rng);
-      if (observer_ && !csi.empty()) observed_csi = csi.front();
-      uav.refiner->add_epoch({filtered, d_used, z, std::move(csi)});
-      const RefinementResult r = uav.refiner->refine();
-      if (r.covariance_source == CovarianceSource::kDeadReckoning) ++modes_.refinement_covariance_fallbacks;
-      belief = r.belief;
-    }
-    beliefs_[m] = belief;
-    check_beliefs(m, epoch, uav, filtered, belief);
-    if (fault_) return;  // a non-finite belief: not observed, no statistics, no placement
-    if (observer_) observer_->on_epoch({epoch, m, q, d_used, z, observed_csi, filtered, belief});
-
-    const Eigen::Vector3d e = belief.mean_m - q, e_f = filtered.mean_m - q;
-    sums_.sq_m2 += e.squaredNorm();
-    sums_.lateral_sq_m2 += e.tail<2>().squaredNorm();
-    sums_.nees += nees(belief, q);
-    sums_.filter_sq_m2 += e_f.squaredNorm();
-    sums_.filter_lateral_sq_m2 += e_f.tail<2>().squaredNorm();
-    sums_.filter_nees += nees(filtered, q);
-    ++sums_.samples;
-    if (z) {
-      const Eigen::Vector3d e_b = localization::beacon_to_position(localization::to_vector(*z)) - q;
-      sums_.beacon_sq_m2 += e_b.squaredNorm();
-      sums_.beacon_lateral_sq_m2 += e_b.tail<2>().squaredNorm();
-      ++sums_.beacons;
-    }
+      in.displacement_m->x() = std::numeric_limits<double>::quiet_NaN();
+    if (in.beacon && fault_active(UavFaultKind::kNanBeacon, m, iteration))
+      in.beacon->range_m = std::numeric_limits<double>::quiet_NaN();
+    if (config_.refine) in.csi = measure_csi(m, q, iteration, uav.csi_rng);
+    const EpochEstimate est = uav.estimator.step(std::move(in));
+    record_epoch(m, epoch, q, est);
+    if (fault_) return;  // a non-finite belief: no placement
   }
   ++modes_.num_epochs;
+}
+
+void ClosedLoopPlanner::record_epoch(int m, int epoch, const Eigen::Vector3d& q_m, const EpochEstimate& est) {
+  beliefs_[m] = est.belief;
+  if (est.rejected_beacon) ++modes_.rejected_beacons[m];
+  if (est.rejected_displacement) ++modes_.rejected_displacements[m];
+  modes_.rejected_csi[m] += est.rejected_csi;
+  if (est.refinement_covariance_fallback) ++modes_.refinement_covariance_fallbacks;
+  if (est.health_problem && !fault_) {
+    fault_ = placement::PlannerFault{placement::RunStatus::kNumericalFault, m,
+                                     "UAV " + std::to_string(m) + ": " + *est.health_problem + " at epoch " +
+                                         std::to_string(epoch)};
+  }
+  // A belief that ended the run after epoch 0 is neither observed nor scored; at epoch 0 the
+  // run ends before any placement, and every UAV's start is still scored.
+  if (fault_ && epoch > 0) return;
+  if (est.beacon_fix_m) beacon_only_errors_.add(*est.beacon_fix_m, q_m);
+  if (observer_) {
+    std::optional<CsiMeasurement> csi;
+    if (!est.csi.empty()) csi = est.csi.front();
+    observer_->on_epoch({epoch, m, q_m, est.displacement_m, est.beacon, csi, est.filter_belief, est.belief});
+  }
+  placed_errors_.add(est.belief, q_m);
+  filter_errors_.add(est.filter_belief, q_m);
 }
 
 bool ClosedLoopPlanner::fault_active(UavFaultKind kind, int m, int iteration) const {
@@ -241,39 +184,14 @@ bool ClosedLoopPlanner::fault_active(UavFaultKind kind, int m, int iteration) co
 }
 
 std::vector<CsiMeasurement> ClosedLoopPlanner::measure_csi(int m, const Eigen::Vector3d& q_m,
-                                                           int iteration, std::mt19937_64& rng) {
+                                                           int iteration, std::mt19937_64& rng) const {
   std::vector<CsiMeasurement> csi;
   if (!config_.refinement.use_csi) return csi;
   CsiMeasurement row = simulate_csi(model_, q_m, scenario_.noise_variance(), rng);
   if (fault_active(UavFaultKind::kNanCsi, m, iteration) && row.y.size() > 0)
     row.y(0) = std::complex<double>(std::numeric_limits<double>::quiet_NaN(), 0.0);
-  if (row.y.allFinite()) {
-    csi.push_back(std::move(row));
-  } else {
-    ++modes_.rejected_csi[m];
-  }
+  csi.push_back(std::move(row));
   return csi;
-}
-
-void ClosedLoopPlanner::check_beliefs(int m, int epoch, const Uav& uav,
-                                      const localization::Belief& filtered,
-                                      const localization::Belief& belief) {
-  if (fault_) return;
-  const std::string filter = config_.filter_kind == localization::FilterKind::kEkf ? "EKF" : "PF";
-  std::optional<std::string> problem = localization::health_problem(filtered);
-  std::string what = filter + " belief ";
-  if (!problem && uav.filter->counters().non_finite_state > 0) {
-    problem = "state became non-finite (covariance reset)";
-    what = filter + " ";
-  }
-  if (!problem && uav.refiner) {
-    problem = localization::health_problem(belief);
-    what = "refined belief ";
-  }
-  if (!problem) return;
-  fault_ = placement::PlannerFault{placement::RunStatus::kNumericalFault, m,
-                                   "UAV " + std::to_string(m) + ": " + what + *problem +
-                                       " at epoch " + std::to_string(epoch)};
 }
 
 void ClosedLoopPlanner::watch_uavs(int iteration) {
@@ -388,20 +306,18 @@ bool ClosedLoopPlanner::try_escape(placement::Swarm& swarm) {
 
 ClosedLoopStats ClosedLoopPlanner::stats() const {
   ClosedLoopStats s = modes_;
-  if (sums_.samples > 0) {
-    const double n = static_cast<double>(sums_.samples);
-    s.rmse_m = std::sqrt(sums_.sq_m2 / n);
-    s.lateral_rmse_m = std::sqrt(sums_.lateral_sq_m2 / n);
-    s.average_nees = sums_.nees / n;
-    s.filter_rmse_m = std::sqrt(sums_.filter_sq_m2 / n);
-    s.filter_lateral_rmse_m = std::sqrt(sums_.filter_lateral_sq_m2 / n);
-    s.filter_average_nees = sums_.filter_nees / n;
+  if (placed_errors_.samples() > 0) {
+    s.rmse_m = placed_errors_.rmse_m();
+    s.lateral_rmse_m = placed_errors_.lateral_rmse_m();
+    s.average_nees = placed_errors_.average_nees();
+    s.filter_rmse_m = filter_errors_.rmse_m();
+    s.filter_lateral_rmse_m = filter_errors_.lateral_rmse_m();
+    s.filter_average_nees = filter_errors_.average_nees();
   }
-  s.num_beacons = static_cast<int>(sums_.beacons);
-  if (sums_.beacons > 0) {
-    s.beacon_only_rmse_m = std::sqrt(sums_.beacon_sq_m2 / static_cast<double>(sums_.beacons));
-    s.beacon_only_lateral_rmse_m =
-        std::sqrt(sums_.beacon_lateral_sq_m2 / static_cast<double>(sums_.beacons));
+  s.num_beacons = static_cast<int>(beacon_only_errors_.samples());
+  if (beacon_only_errors_.samples() > 0) {
+    s.beacon_only_rmse_m = beacon_only_errors_.rmse_m();
+    s.beacon_only_lateral_rmse_m = beacon_only_errors_.lateral_rmse_m();
   }
   return s;
 }
@@ -417,7 +333,7 @@ ClosedLoopRun run_closed_loop(const placement::PlacementSettings& settings,
   ClosedLoopPlanner planner(settings.scenario, settings.gd, settings.bf, config, seed);
   planner.set_observer(observer);
   ClosedLoopRun out;
-  out.run = placement::run_placement(planner, swarm, settings.run);
+  out.run = placement::run_placement(planner, swarm, placement::with_override(settings.run, settings.gd_run));
   out.stats = planner.stats();
   return out;
 }

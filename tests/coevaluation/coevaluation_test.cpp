@@ -26,7 +26,7 @@ namespace lp = placement;
 
 constexpr int kTrials = 2;
 constexpr double kLargestNoise_m = 0.18;
-const std::vector<std::string> kBeaconAlgorithms = {"gd_gauss", "gd_ekf", "gd_pf", "gd_ekf_ceres",
+const std::vector<std::string> kBeaconAlgorithms = {"gd_gauss", "gd_ekf", "gd_gauss_matched", "gd_pf", "gd_ekf_ceres",
                                                     "bf",       "ura_ekf", "centralized"};
 const std::vector<std::string> kOutageAlgorithms = {"gd_ekf", "gd_ekf_nofallback"};
 const std::vector<int> kOutageValues = {0, 4};
@@ -118,6 +118,7 @@ TEST(CoevaluationApp, TinyConfig_EveryAlgorithmAndColumn_SameBytesInOneAndTwoThr
   const std::string report = read_file(dir1 / "report.md");
   EXPECT_NE(report.find("## Co-evaluation: beacon noise"), std::string::npos);
   EXPECT_NE(report.find("**Target**"), std::string::npos);
+  EXPECT_NE(report.find("### Integrating the estimator at matched error"), std::string::npos);
   EXPECT_NE(report.find("## Co-evaluation: beacon outage"), std::string::npos);
 
   // THEN: the extra columns, and one row per (sweep, point, algorithm, trial).
@@ -149,6 +150,20 @@ TEST(CoevaluationApp, TinyConfig_EveryAlgorithmAndColumn_SameBytesInOneAndTwoThr
     }
     if (a == "gd_gauss") {
       EXPECT_NEAR(number(r, "loc_lateral_rmse_m"), std::sqrt(2.0) * value, 1e-9);  // CSV: 10 digits
+      continue;
+    }
+    if (a == "gd_gauss_matched") {
+      // THEN (the matched error): its Gaussian has gd_ekf's measured lateral RMSE of the same
+      // trial and point.
+      const auto ekf = std::find_if(rows.begin(), rows.end(), [&](const auto& o) {
+        return o.at("sweep") == r.at("sweep") && o.at("value") == r.at("value") && o.at("trial") == r.at("trial") &&
+               o.at("algorithm") == "gd_ekf";
+      });
+      ASSERT_NE(ekf, rows.end());
+      const double ekf_lateral_m = number(*ekf, "loc_lateral_rmse_m");
+      EXPECT_GT(ekf_lateral_m, 0.0);
+      EXPECT_NEAR(number(r, "loc_lateral_rmse_m"), ekf_lateral_m, 1e-9 * ekf_lateral_m + 1e-12);
+      EXPECT_TRUE(std::isnan(number(r, "nees")));
       continue;
     }
     if (value != kLargestNoise_m) continue;

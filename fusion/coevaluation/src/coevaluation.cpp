@@ -16,6 +16,8 @@
 #include "losmimo/fusion/centralized.h"
 #include "losmimo/coevaluation/report.h"
 #include "losmimo/localization/beacon_model.h"
+#include "losmimo/fusion/estimation_step.h"
+#include "losmimo/localization/estimation_errors.h"
 #include "losmimo/localization/initial_belief.h"
 #include "losmimo/placement/metrics.h"
 
@@ -75,71 +77,53 @@ experiment::TrialRecord closed_loop_record(const experiment::ExperimentSettings&
   return rec;
 }
 
-// URA's position source: every UAV's own sensors and EKF, one epoch per estimate (the URA
-// planner asks once per UAV at start and once per UAV per iteration, as the closed loop
-// localizes). Epoch 0 is the beacon-only fix, or the start cube as a prior without a beacon.
+// URA's position source: every UAV's own sensors and EKF through the closed loop's estimation
+// step (fusion/estimation_step.h), one epoch per estimate (the URA planner asks once per UAV at
+// start and once per UAV per iteration, as the closed loop localizes).
 class EkfPositionSource {
  public:
   EkfPositionSource(const placement::Scenario& scenario, const localization::SimulatorConfig& sim,
-                    const localization::FilterConfig& filter, int num_uavs, std::uint64_t seed)
-      : scenario_(scenario), filter_config_(filter) {
+                    const localization::FilterConfig& filter, int num_uavs, std::uint64_t seed) {
+    const fusion::EstimatorConfig estimator{localization::FilterKind::kEkf, filter, false, {}};
+    const localization::Belief prior = localization::start_cube_prior(scenario, filter);
     for (int m = 0; m < num_uavs; ++m) {
       const auto uav = static_cast<std::uint64_t>(m);
       uavs_.push_back({localization::SensorSimulator(sim, common::derive_seed(seed, {kUraSimulatorStream, uav})),
-                       nullptr, common::derive_seed(seed, {kUraFilterStream, uav}), Eigen::Vector3d::Zero(), 0});
+                       fusion::UavEstimator(scenario, estimator, prior, common::derive_seed(seed, {kUraFilterStream, uav})),
+                       Eigen::Vector3d::Zero(), 0});
     }
   }
 
   Eigen::Vector3d estimate(int m, const Eigen::Vector3d& q_m) {
     Uav& uav = uavs_.at(static_cast<std::size_t>(m));
-    localization::Belief belief;
-    std::optional<localization::BeaconMeasurement> z;
-    if (!uav.filter) {
-      z = uav.simulator.measure_beacon(q_m, 0);
-      // The closed loop's epoch-0 rule (localization/initial_belief.h).
-      belief = localization::initial_belief(z, filter_config_, localization::start_cube_prior(scenario_, filter_config_))
-                   .belief;
-      uav.filter = localization::make_filter(localization::FilterKind::kEkf, filter_config_, belief, uav.filter_seed);
-    } else {
+    fusion::EpochMeasurements in;
+    const bool first = !uav.estimator.started();
+    if (!first) {
       ++uav.epoch;
-      const Eigen::Vector3d d_meas = uav.simulator.measure_displacement(q_m - uav.last_q_m);
-      z = uav.simulator.measure_beacon(q_m, uav.epoch);
-      uav.filter->step(d_meas, z);
-      belief = uav.filter->belief();
+      in.displacement_m = uav.simulator.measure_displacement(q_m - uav.last_q_m);
     }
+    in.beacon = uav.simulator.measure_beacon(q_m, uav.epoch);
+    const fusion::EpochEstimate est = first ? uav.estimator.start(std::move(in)) : uav.estimator.step(std::move(in));
     uav.last_q_m = q_m;
-    const Eigen::Vector3d e = belief.mean_m - q_m;
-    sq_m2_ += e.squaredNorm();
-    lateral_sq_m2_ += e.tail<2>().squaredNorm();
-    nees_ += e.dot(belief.cov_m2.ldlt().solve(e));
-    ++samples_;
-    if (z) {
-      beacon_lateral_sq_m2_ +=
-          (localization::beacon_to_position(localization::to_vector(*z)) - q_m).tail<2>().squaredNorm();
-      ++beacons_;
-    }
-    return belief.mean_m;
+    errors_.add(est.belief, q_m);
+    if (est.beacon_fix_m) beacon_only_errors_.add(*est.beacon_fix_m, q_m);
+    return est.belief.mean_m;
   }
 
   std::vector<double> extra() const {
-    const double n = std::max<long>(samples_, 1);
-    return extras(std::sqrt(sq_m2_ / n), std::sqrt(lateral_sq_m2_ / n), nees_ / n, kNaN,
-                  beacons_ > 0 ? std::sqrt(beacon_lateral_sq_m2_ / static_cast<double>(beacons_)) : kNaN);
+    return extras(errors_.rmse_m(), errors_.lateral_rmse_m(), errors_.average_nees(), kNaN,
+                  beacon_only_errors_.lateral_rmse_m());
   }
 
  private:
   struct Uav {
     localization::SensorSimulator simulator;
-    std::unique_ptr<localization::PositionFilter> filter;  // null until epoch 0
-    std::uint64_t filter_seed;
+    fusion::UavEstimator estimator;
     Eigen::Vector3d last_q_m;
     int epoch;
   };
-  placement::Scenario scenario_;
-  localization::FilterConfig filter_config_;
   std::vector<Uav> uavs_;
-  double sq_m2_ = 0.0, lateral_sq_m2_ = 0.0, nees_ = 0.0, beacon_lateral_sq_m2_ = 0.0;
-  long samples_ = 0, beacons_ = 0;
+  localization::ErrorAccumulator errors_, beacon_only_errors_;
 };
 
 placement::RunResult centralized_run(const placement::Scenario& scenario, const Eigen::Matrix3Xd& start_m,
@@ -163,6 +147,17 @@ placement::RunResult centralized_run(const placement::Scenario& scenario, const 
     }
   }
   return r;
+}
+
+// gd_gauss_matched's sigma_loc_m: gd_ekf's lateral RMSE of this trial and point over sqrt(2)
+// (from its record when already run, else from its closed loop, run for that alone).
+double matched_sigma_loc_m(const std::vector<experiment::TrialRecord>& records,
+                           const std::function<experiment::TrialRecord()>& run_gd_ekf) {
+  const std::string gd_ekf = to_string(CoevalAlgorithm::kGdEkf);
+  for (const experiment::TrialRecord& r : records) {
+    if (r.algorithm == gd_ekf) return r.extra.at(1) / std::sqrt(2.0);
+  }
+  return run_gd_ekf().extra.at(1) / std::sqrt(2.0);
 }
 
 }  // namespace
@@ -231,30 +226,35 @@ std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::Ex
       records.push_back(experiment::make_record(s, kSweepBeaconNoise, point, trial, to_string(a), run));
       records.back().extra = std::move(extra);
     };
-    placement::ErrorModel errors = s.placement.errors;
-    errors.sigma_loc_m = 0.0;
+    // Every algorithm but gd_gauss places from true positions or from its own estimates.
+    placement::PlacementSettings p = s.placement;
+    p.errors.sigma_loc_m = 0.0;
     switch (a) {
-      case CoevalAlgorithm::kGdGauss: {
-        errors.sigma_loc_m = v;
-        placement::Swarm swarm(model, start, errors, seed);
-        placement::GradientDescentPlanner gd(scenario, s.placement.gd);
-        record(placement::run_placement(gd, swarm, s.placement.run),
-               extras(std::sqrt(3.0) * v, std::sqrt(2.0) * v, kNaN, kNaN, kNaN));
+      case CoevalAlgorithm::kGdGauss:
+      case CoevalAlgorithm::kGdGaussMatched: {
+        // The experiment's GD (one engine): its planner, stop rule and Gaussian localization.
+        p.errors.sigma_loc_m = a == CoevalAlgorithm::kGdGauss ? v : matched_sigma_loc_m(records, [&] {
+          return closed_loop_record(s, kSweepBeaconNoise, point, trial, CoevalAlgorithm::kGdEkf,
+                                    coevaluation_closed_loop_config(c, scenario, CoevalAlgorithm::kGdEkf, v));
+        });
+        record(experiment::run_algorithm(s, p, experiment::Algorithm::kGd, trial, start, seed, s.placement.run),
+               extras(std::sqrt(3.0) * p.errors.sigma_loc_m, std::sqrt(2.0) * p.errors.sigma_loc_m, kNaN, kNaN, kNaN));
         break;
       }
       case CoevalAlgorithm::kBf: {
-        placement::Swarm swarm(model, start, errors, seed);
-        placement::BruteForcePlanner bf(scenario, s.placement.bf);
-        record(placement::run_placement(bf, swarm, s.placement.run), extras(kNaN, kNaN, kNaN, kNaN, kNaN));
+        record(experiment::run_algorithm(s, p, experiment::Algorithm::kBf, trial, start, seed, s.placement.run),
+               extras(kNaN, kNaN, kNaN, kNaN, kNaN));
         break;
       }
       case CoevalAlgorithm::kUraEkf: {
         const localization::SimulatorConfig sim = simulator_config(c, scenario, v);
         EkfPositionSource source(scenario, sim, filter_config(c, sim), scenario.num_uavs, seed);
-        placement::Swarm swarm(model, start, errors, seed);
+        placement::Swarm swarm(model, start, p.errors, seed);
         swarm.set_position_estimator([&source](int m, const Eigen::Vector3d& q) { return source.estimate(m, q); });
-        placement::UraPlanner ura(scenario, c.ura_variant);
-        const placement::RunResult run = placement::run_placement(ura, swarm, s.placement.run);
+        const experiment::Algorithm ura = experiment::ura_algorithm_of(c.ura_variant);
+        const std::unique_ptr<placement::Planner> planner = experiment::make_planner(p, ura);
+        const placement::RunResult run =
+            placement::run_placement(*planner, swarm, experiment::run_options_of(p, ura, s.placement.run));
         record(run, source.extra());  // after the run: the source's statistics are the run's
         break;
       }

@@ -20,7 +20,7 @@ using common::split_list;
 const std::string kSection = "coevaluation";
 
 constexpr CoevalAlgorithm kAll[] = {
-    CoevalAlgorithm::kGdGauss, CoevalAlgorithm::kGdEkf,  CoevalAlgorithm::kGdEkfNoFallback,
+    CoevalAlgorithm::kGdGauss, CoevalAlgorithm::kGdGaussMatched, CoevalAlgorithm::kGdEkf,  CoevalAlgorithm::kGdEkfNoFallback,
     CoevalAlgorithm::kGdPf,    CoevalAlgorithm::kGdEkfCeres, CoevalAlgorithm::kBf,
     CoevalAlgorithm::kUraEkf,  CoevalAlgorithm::kCentralized};
 // The outage sweep runs the closed loop only: the point is what the fallback does.
@@ -123,6 +123,7 @@ std::vector<common::Key<CoevaluationSettings>> coevaluation_key_list() {
 std::string to_string(CoevalAlgorithm a) {
   switch (a) {
     case CoevalAlgorithm::kGdGauss: return "gd_gauss";
+    case CoevalAlgorithm::kGdGaussMatched: return "gd_gauss_matched";
     case CoevalAlgorithm::kGdEkf: return "gd_ekf";
     case CoevalAlgorithm::kGdEkfNoFallback: return "gd_ekf_nofallback";
     case CoevalAlgorithm::kGdPf: return "gd_pf";

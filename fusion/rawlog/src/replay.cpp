@@ -12,7 +12,8 @@
 #include <memory>
 #include <ostream>
 
-#include "losmimo/fusion/refinement.h"
+#include "losmimo/fusion/estimation_step.h"
+#include "losmimo/localization/estimation_errors.h"
 #include "losmimo/localization/beacon_model.h"
 #include "losmimo/localization/initial_belief.h"
 #include "losmimo/placement/channel.h"
@@ -33,11 +34,6 @@ bool bitwise_equal(const localization::Belief& a, const localization::Belief& b)
     for (int j = i; j < 3; ++j)
       if (std::memcmp(&a.cov_m2(i, j), &b.cov_m2(i, j), sizeof(double)) != 0) return false;
   return true;
-}
-
-double nees(const localization::Belief& b, const Eigen::Vector3d& truth_m) {
-  const Eigen::Vector3d e = b.mean_m - truth_m;
-  return e.dot(b.cov_m2.ldlt().solve(e));
 }
 
 std::string num(double v) { return common::format_g(v, common::kCsvDigits); }
@@ -72,12 +68,16 @@ ReplayResult replay_mission(const MissionLog& log, const ReplayOptions& options)
 
   const int nr = log.num_uavs;
   const int num_epochs = static_cast<int>(log.epochs.size());
-  std::vector<std::unique_ptr<localization::PositionFilter>> filters(nr);
-  std::vector<std::optional<fusion::SlidingWindowRefiner>> refiners(nr);
+  const fusion::EstimatorConfig estimator{cl.filter_kind, cl.filter, cl.refine, cl.refinement};
+  const localization::Belief prior = localization::start_cube_prior(scenario, cl.filter);
+  std::vector<fusion::UavEstimator> uavs;
+  for (int m = 0; m < nr; ++m) {
+    const std::uint64_t seed = m < static_cast<int>(log.filter_seeds.size()) ? log.filter_seeds[m] : m;
+    uavs.emplace_back(scenario, estimator, prior, seed);
+  }
   const placement::ChannelModel model(scenario);
   std::vector<localization::Belief> held_filtered(nr), held_belief(nr);  // silent UAVs keep these
-  double sq = 0.0, lat_sq = 0.0, nees_sum = 0.0, filter_sq = 0.0;
-  long samples = 0;
+  localization::ErrorAccumulator errors, filter_errors;
   double icn_sum = 0.0;
   int icn_epochs = 0;
 
@@ -86,40 +86,25 @@ ReplayResult replay_mission(const MissionLog& log, const ReplayOptions& options)
     row.epoch = k;
     Eigen::Matrix3Xd truth(3, nr), estimate(3, nr);
     bool all_truth = true;
-    double e_sq = 0.0, e_lat = 0.0, e_nees = 0.0;
-    int e_n = 0;
+    localization::ErrorAccumulator epoch_errors;
     for (int m = 0; m < nr; ++m) {
       static const LoggedUavEpoch kNothing;  // foreign rows are ragged (log.cpp)
       const LoggedUavEpoch& in = m < static_cast<int>(log.epochs[k].size()) ? log.epochs[k][m] : kNothing;
-      std::optional<localization::BeaconMeasurement> z = in.beacon;
       // Ours: nothing arrived from the UAV in this epoch; the loop kept its belief (fusion/src/closed_loop.cpp).
       const bool silent = log.ours && k > 0 && !in.reported;
       // Ours: '-' = the UAV was not commanded in iteration k + 1 (silent, or the run stopped).
       const bool commanded = !(log.ours && k < static_cast<int>(log.modes.size()) &&
                                static_cast<int>(log.modes[k].size()) == nr && log.modes[k][m] == '-');
-      localization::Belief filtered;
-      if (silent) {
-        filtered = held_filtered[m];
-      } else if (k == 0) {
-        // The closed loop's epoch-0 rule (localization/initial_belief.h).
-        filtered = localization::initial_belief(z, cl.filter, localization::start_cube_prior(scenario, cl.filter)).belief;
-        const std::uint64_t seed = m < static_cast<int>(log.filter_seeds.size()) ? log.filter_seeds[m] : m;
-        filters[m] = localization::make_filter(cl.filter_kind, cl.filter, filtered, seed);
-        if (cl.refine) refiners[m].emplace(scenario, cl.refinement);
-      } else {
-        const Eigen::Vector3d d = in.displacement_m.value_or(Eigen::Vector3d::Constant(kNan));
-        filters[m]->step(d, z);
-        filtered = filters[m]->belief();
-      }
-      localization::Belief belief = silent ? held_belief[m] : filtered;
-      if (cl.refine && !silent) {
-        std::vector<fusion::CsiMeasurement> csi;
-        if (cl.refinement.use_csi && in.csi) csi.push_back(*in.csi);
-        std::optional<Eigen::Vector3d> d;
-        if (k > 0) d = in.displacement_m.value_or(Eigen::Vector3d::Constant(kNan));
-        if (d && !d->allFinite()) d.reset();  // a dead-reckoning gap starts a new window
-        refiners[m]->add_epoch({filtered, d, z, std::move(csi)});
-        belief = refiners[m]->refine().belief;
+      std::optional<localization::BeaconMeasurement> z;  // as the estimator consumed it
+      localization::Belief filtered = held_filtered[m], belief = held_belief[m];
+      if (!silent) {
+        fusion::EpochMeasurements measurements{in.displacement_m, in.beacon, {}};
+        if (in.csi) measurements.csi.push_back(*in.csi);
+        const fusion::EpochEstimate est = k == 0 ? uavs[m].start(std::move(measurements))
+                                                 : uavs[m].step(std::move(measurements));
+        filtered = est.filter_belief;
+        belief = est.belief;
+        z = est.beacon;
       }
       held_filtered[m] = filtered;
       held_belief[m] = belief;
@@ -163,24 +148,18 @@ ReplayResult replay_mission(const MissionLog& log, const ReplayOptions& options)
         const Eigen::Vector3d e = belief.mean_m - *in.truth_m;
         est.error_m = e.norm();
         est.lateral_error_m = e.tail<2>().norm();
-        est.nees = nees(belief, *in.truth_m);
-        e_sq += e.squaredNorm();
-        e_lat += e.tail<2>().squaredNorm();
-        e_nees += est.nees;
-        ++e_n;
-        filter_sq += (filtered.mean_m - *in.truth_m).squaredNorm();
+        est.nees = localization::nees(belief, *in.truth_m);
+        epoch_errors.add(belief, *in.truth_m);
+        filter_errors.add(filtered.mean_m, *in.truth_m);
       } else {
         all_truth = false;
       }
       out.estimates.push_back(est);
     }
-    sq += e_sq;
-    lat_sq += e_lat;
-    nees_sum += e_nees;
-    samples += e_n;
-    row.rmse_m = e_n ? std::sqrt(e_sq / e_n) : kNan;
-    row.lateral_rmse_m = e_n ? std::sqrt(e_lat / e_n) : kNan;
-    row.mean_nees = e_n ? e_nees / e_n : kNan;
+    errors += epoch_errors;
+    row.rmse_m = epoch_errors.rmse_m();
+    row.lateral_rmse_m = epoch_errors.lateral_rmse_m();
+    row.mean_nees = epoch_errors.average_nees();
     if (all_truth) {
       link_metrics(model, scenario.noise_variance(), truth, row);
       ReplayEpochMetrics est_row;
@@ -210,14 +189,10 @@ ReplayResult replay_mission(const MissionLog& log, const ReplayOptions& options)
   }
   out.final_icn = out.epochs.back().icn;
   out.final_sinr_zf_db = out.epochs.back().sinr_zf_db;
-  if (samples > 0) {
-    out.rmse_m = std::sqrt(sq / samples);
-    out.lateral_rmse_m = std::sqrt(lat_sq / samples);
-    out.average_nees = nees_sum / samples;
-    out.filter_rmse_m = std::sqrt(filter_sq / samples);
-  } else {
-    out.rmse_m = out.lateral_rmse_m = out.average_nees = out.filter_rmse_m = kNan;
-  }
+  out.rmse_m = errors.rmse_m();
+  out.lateral_rmse_m = errors.lateral_rmse_m();
+  out.average_nees = errors.average_nees();
+  out.filter_rmse_m = filter_errors.rmse_m();
   return out;
 }
 

@@ -14,20 +14,6 @@ namespace losmimo::experiment {
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::unique_ptr<placement::Planner> make_planner(const placement::PlacementSettings& p, Algorithm a) {
-  switch (a) {
-    case Algorithm::kGd: return std::make_unique<placement::GradientDescentPlanner>(p.scenario, p.gd);
-    case Algorithm::kBf: return std::make_unique<placement::BruteForcePlanner>(p.scenario, p.bf);
-    case Algorithm::kUra: return std::make_unique<placement::UraPlanner>(p.scenario, placement::UraVariant::kRigid, p.ura);
-    case Algorithm::kUraLattice:
-      return std::make_unique<placement::UraPlanner>(p.scenario, placement::UraVariant::kLattice, p.ura);
-    case Algorithm::kUraLatticeExact:
-      return std::make_unique<placement::UraPlanner>(p.scenario, placement::UraVariant::kLatticeExact, p.ura);
-    case Algorithm::kRandom: break;
-  }
-  return nullptr;
-}
-
 // Placement without motion: the start itself, evaluated like any other result.
 class StayPlanner : public placement::Planner {
  public:
@@ -41,20 +27,49 @@ double mean_db(const Eigen::VectorXd& linear) {
   return sum / linear.size();
 }
 
-// The algorithm's own stop rule ([gd], [bf], [ura] target_icn / max_iterations) over [placement]'s.
-placement::RunOptions run_options_of(const placement::PlacementSettings& p, Algorithm a, placement::RunOptions run) {
+}  // namespace
+
+std::unique_ptr<placement::Planner> make_planner(const placement::PlacementSettings& p, Algorithm a) {
   switch (a) {
-    case Algorithm::kGd: return placement::with_override(run, p.gd_run);
-    case Algorithm::kBf: return placement::with_override(run, p.bf_run);
+    case Algorithm::kGd: return std::make_unique<placement::GradientDescentPlanner>(p.scenario, p.gd);
+    case Algorithm::kBf: return std::make_unique<placement::BruteForcePlanner>(p.scenario, p.bf);
     case Algorithm::kUra:
     case Algorithm::kUraLattice:
-    case Algorithm::kUraLatticeExact: return placement::with_override(run, p.ura_run);
+    case Algorithm::kUraLatticeExact: return std::make_unique<placement::UraPlanner>(p.scenario, ura_variant_of(a), p.ura);
     case Algorithm::kRandom: break;
   }
-  return run;
+  return nullptr;
 }
 
-}  // namespace
+placement::UraVariant ura_variant_of(Algorithm a) {
+  switch (a) {
+    case Algorithm::kUraLattice: return placement::UraVariant::kLattice;
+    case Algorithm::kUraLatticeExact: return placement::UraVariant::kLatticeExact;
+    default: return placement::UraVariant::kRigid;
+  }
+}
+
+Algorithm ura_algorithm_of(placement::UraVariant variant) {
+  switch (variant) {
+    case placement::UraVariant::kLattice: return Algorithm::kUraLattice;
+    case placement::UraVariant::kLatticeExact: return Algorithm::kUraLatticeExact;
+    case placement::UraVariant::kRigid: break;
+  }
+  return Algorithm::kUra;
+}
+
+placement::RunOptions run_options_of(const placement::PlacementSettings& p, Algorithm a, placement::RunOptions run) {
+  switch (a) {
+    case Algorithm::kGd: run = placement::with_override(run, p.gd_run); break;
+    case Algorithm::kBf: run = placement::with_override(run, p.bf_run); break;
+    case Algorithm::kUra:
+    case Algorithm::kUraLattice:
+    case Algorithm::kUraLatticeExact: run = placement::with_override(run, p.ura_run); break;
+    case Algorithm::kRandom: run.max_iterations = 0; break;
+  }
+  run.noise_variance = p.scenario.noise_variance();
+  return run;
+}
 
 placement::RunResult run_algorithm(const ExperimentSettings& s, const placement::PlacementSettings& p, Algorithm a,
                                    int trial, const Eigen::Matrix3Xd& start, std::uint64_t seed,
@@ -67,10 +82,8 @@ placement::RunResult run_algorithm(const ExperimentSettings& s, const placement:
                                                               trial_scatter_seed(s, trial),
                                                               common::derive_seed(seed, {5})));
   }
-  run.noise_variance = p.scenario.noise_variance();
   std::unique_ptr<placement::Planner> planner = make_planner(p, a);
   StayPlanner stay;
-  if (!planner) run.max_iterations = 0;
   return placement::run_placement(planner ? *planner : stay, swarm, run);
 }
 
@@ -154,7 +167,9 @@ TrialRecord make_record(const ExperimentSettings& s, const placement::PlacementS
 
 std::vector<TrialRecord> run_trial(const ExperimentSettings& s, const std::string& sweep, int point, int trial) {
   placement::PlacementSettings p = s.placement;
-  const double value = s.sweep(sweep)->values.at(point);
+  const SweepPoints* points = s.sweep(sweep);
+  if (!points) throw std::invalid_argument("run_trial: the settings have no '" + sweep + "' sweep");
+  const double value = points->values.at(point);
   if (sweep == kSweepSigmaLoc) {
     p.errors.sigma_loc_m = value;
   } else if (sweep == kSweepSigmaAct) {

@@ -8,11 +8,11 @@
 //       included: the error model sees the net motion only);
 //     - receives the BS beacon at its true position (SensorSimulator::measure_beacon; outages
 //       from SimulatorConfig::outages for every UAV plus ClosedLoopConfig::outages per UAV);
-//     - runs one filter epoch (localization::PositionFilter::step).
-//  2. With refinement on, the UAV also measures its CSI row at its true position (simulate_csi,
-//     noise Scenario::noise_variance()) and its SlidingWindowRefiner's result replaces the
-//     filter's belief for placement (the filter keeps running on its own beliefs).
-//  3. Placement, one UAV at a time in index order (the others' rows are current):
+//     - with refinement and refinement.use_csi, measures its CSI row at its true position
+//       (simulate_csi, noise Scenario::noise_variance());
+//     - runs one epoch of its UavEstimator (estimation_step.h: screening, filter, refinement,
+//       health), whose belief (refined when refinement is on) placement uses.
+//  2. Placement, one UAV at a time in index order (the others' rows are current):
 //     - belief not degraded (or fallback off): GD, r = GradientDescentPlanner::plan_move at the
 //       belief mean (GdBeliefMode::kMean) or the mean of plan_move over the belief's six
 //       unscented sigma points mu +- sqrt(3) L e_j, P = L L^T (kSigmaPoints: the expected move
@@ -25,10 +25,10 @@
 //     Stall escape (stall.h, GdOptions::escape): the most redundant UAV in GD mode searches its
 //     lateral period around its belief mean, as GradientDescentPlanner does; a redundant UAV in
 //     BF mode is skipped.
-//  4. run_placement (placement/run.h) evaluates the ICN and stops at the target.
+//  3. run_placement (placement/run.h) evaluates the ICN and stops at the target.
 //
-// Faults. The master (this planner) screens every measurement before it reaches the
-// filter, the refinement or placement, and watches every UAV:
+// Faults. Every measurement is screened before it reaches the filter, the refinement or
+// placement (estimation_step.h), and the master watches every UAV:
 //  - a non-finite or implausible beacon (localization::is_plausible: range outside
 //    (0, filter.max_beacon_range_m], elevation beyond +-pi/2) or CSI row is dropped, a non-finite
 //    dead-reckoning displacement is passed to the filter as missing (the filter then predicts
@@ -39,20 +39,21 @@
 //    no motion for 3 iterations (since iteration 5)". The measurements of iteration i are those
 //    of epoch i - 1 (epoch 0 is start()'s). A UAV dead from iteration k is found at iteration
 //    k + unresponsive_after_iterations - 1.
-//  - after every filter epoch the filter's and the refinement's beliefs are checked
-//    (localization::health_problem): a non-finite or inconsistent belief ends the run before
-//    placement uses it, with kNumericalFault, "UAV 2: EKF belief mean_m(0) = nan at epoch 7".
+//  - after every epoch the estimation step's health check (estimation_step.h) ends the run
+//    before placement uses an unhealthy belief, with kNumericalFault, "UAV 2: EKF belief
+//    mean_m(0) = nan at epoch 7".
 //  Faults can be injected (ClosedLoopConfig::faults, UavFault): an unresponsive UAV stops
 //  measuring and moving (its commands are lost: it hovers where it is); the NaN faults corrupt
 //  one component of the measurement as delivered (the simulators draw as usual, so the other
-//  UAVs' runs do not change). Without faults the run is the same as before these checks.
+//  UAVs' runs do not change). Faults draw no random numbers: a run with faults that never
+//  become active is the run without them.
 //
 // Randomness: one run seed; every UAV's simulator, filter and CSI generator and the Swarm get
 // their own std::mt19937_64 seeds derived from it (SplitMix64), so a run depends on the seed
 // only, in any thread.
-// Initial belief (epoch 0): the beacon-only fix (localization::beacon_fix) when the UAV has a
-// beacon at epoch 0, otherwise the start cube as a prior (mean at its centre, 1-sigma
-// cube_side_m / sqrt(12) per axis, degraded).
+// Initial belief (epoch 0): the estimation step's epoch-0 rule (localization/initial_belief.h):
+// the beacon-only fix when the UAV has a plausible beacon at epoch 0, otherwise the start cube as
+// a prior (mean at its centre, 1-sigma cube_side_m / sqrt(12) per axis, degraded).
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -62,7 +63,9 @@
 #include <string>
 #include <vector>
 
+#include "losmimo/fusion/estimation_step.h"
 #include "losmimo/fusion/refinement.h"
+#include "losmimo/localization/estimation_errors.h"
 #include "losmimo/localization/filter.h"
 #include "losmimo/localization/sensor_simulator.h"
 #include "losmimo/placement/bf.h"
@@ -253,16 +256,16 @@ class ClosedLoopPlanner : public placement::Planner {
   Eigen::Vector3d plan_gd(const placement::Swarm& swarm, int m, int iteration) const;
   bool try_escape(placement::Swarm& swarm);
   bool fault_active(UavFaultKind kind, int m, int iteration) const;
-  // UAV m's CSI for the refinement at iteration `iteration` (none without use_csi), screened:
-  // a non-finite row is dropped and counted.
+  // UAV m's CSI row at iteration `iteration` (none without use_csi), with any injected fault;
+  // the estimator screens it.
   std::vector<CsiMeasurement> measure_csi(int m, const Eigen::Vector3d& q_m, int iteration,
-                                          std::mt19937_64& rng);
+                                          std::mt19937_64& rng) const;
   bool unresponsive(int m, int iteration) const {
     return fault_active(UavFaultKind::kUnresponsive, m, iteration);
   }
-  // Sets fault_ (kNumericalFault) if the filter's or the placement belief of UAV m is unhealthy.
-  void check_beliefs(int m, int epoch, const Uav& uav, const localization::Belief& filtered,
-                     const localization::Belief& belief);
+  // Takes UAV m's epoch: its belief for placement, counters, a fault from an unhealthy belief
+  // (kNumericalFault), the observer and the error statistics.
+  void record_epoch(int m, int epoch, const Eigen::Vector3d& q_m, const EpochEstimate& estimate);
   // End of iteration i: silence bookkeeping and the unresponsive-UAV rule.
   void watch_uavs(int iteration);
 
@@ -283,19 +286,15 @@ class ClosedLoopPlanner : public placement::Planner {
   std::vector<int> silent_since_;  // per UAV: first iteration of the current silence, 0: none
   std::optional<placement::PlannerFault> fault_;
 
-  // Accumulated statistics (see ClosedLoopStats).
-  struct Sums {
-    double sq_m2 = 0.0, lateral_sq_m2 = 0.0, nees = 0.0;
-    double filter_sq_m2 = 0.0, filter_lateral_sq_m2 = 0.0, filter_nees = 0.0;
-    double beacon_sq_m2 = 0.0, beacon_lateral_sq_m2 = 0.0;
-    long samples = 0;
-    long beacons = 0;
-  } sums_;
+  // Accumulated statistics (see ClosedLoopStats): placement's beliefs, the filters' and the
+  // beacon-only fixes, against the true positions.
+  localization::ErrorAccumulator placed_errors_, filter_errors_, beacon_only_errors_;
   ClosedLoopStats modes_;  // the per-UAV and per-iteration fields only
 };
 
 // One closed-loop run with the given settings: scenario, GD and BF options, run options
-// (target ICN, iteration cap) and errors.sigma_act_m (errors.sigma_loc_m is not used).
+// (target ICN, iteration cap; [gd]'s own target_icn / max_iterations over [placement]'s, since
+// the closed loop is a GD planner) and errors.sigma_act_m (errors.sigma_loc_m is not used).
 struct ClosedLoopRun {
   placement::RunResult run;
   ClosedLoopStats stats;

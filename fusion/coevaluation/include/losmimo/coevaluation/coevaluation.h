@@ -8,19 +8,29 @@
 //   sigma_angle_rad = v / R (azimuth and elevation); its range noise is [closed_loop]
 //   beacon_sigma_range_m whatever v. At every point every algorithm starts from the trial's start
 //   (experiment::trial_start_positions_m) with the point's seed (experiment::trial_seed):
-//   - gd_gauss      the paper's GD under its Gaussian localization model with sigma_loc_m = v
-//                   (placement's Swarm, as the built-in `gd`). Matching: the Gaussian's error
+//   - gd_gauss      the paper's GD under its Gaussian localization model with sigma_loc_m = v:
+//                   the experiment's own GD run (experiment::run_algorithm: planner, [gd] stop
+//                   rule), from the point's seed. Matching: the Gaussian's error
 //                   per lateral axis has the same 1-sigma v as the beacon-only fix, so its
 //                   2-D lateral RMSE sqrt(2) v equals the beacon-only lateral RMSE that the
 //                   closed-loop rows report in beacon_lateral_rmse_m (measured, first order in
 //                   sigma_angle). The Gaussian also errs by v along the range, where the
 //                   beacon errs by beacon_sigma_range_m; GD is insensitive to that axis (a common
 //                   phase of the UAV's row).
+//   - gd_gauss_matched  gd_gauss at the error gd_ekf measured in the same trial and point: its
+//                   sigma_loc_m per axis is gd_ekf's loc_lateral_rmse_m / sqrt(2), so the two
+//                   have the same lateral RMSE (the error GD is sensitive to; along the range
+//                   the filter errs by the beacon's range noise, which GD ignores). The fair
+//                   comparison for "does integrating the estimator win": at matched error any
+//                   difference is the error's structure (correlated, known covariance), not
+//                   its size. Runs gd_ekf's closed loop for its RMSE when gd_ekf is not listed.
+//                   The experiment's GD as gd_gauss is: run_algorithm, the same seed.
 //   - gd_ekf, gd_pf, gd_ekf_ceres   the closed loop (closed_loop.h) with the EKF, the particle
 //                   filter, and the EKF with Ceres CSI refinement; BF fallback on.
 //   - gd_ekf_nofallback             gd_ekf with the BF fallback off.
-//   - bf            placement's BF (needs no position).
-//   - ura_ekf       placement's URA ([coevaluation] ura_variant) whose position estimates
+//   - bf            the experiment's BF run (needs no position; [bf] options and stop rule).
+//   - ura_ekf       the experiment's URA planner ([coevaluation] ura_variant, [ura] options and
+//                   stop rule) whose position estimates
 //                   are EKF beliefs: every UAV runs its own sensors and EKF (as the closed loop
 //                   does), one epoch per URA position estimate (the assignment at start, then
 //                   one per iteration), through Swarm::set_position_estimator.
@@ -75,6 +85,7 @@ inline const std::string kSweepBeaconOutage = "beacon_outage";
 
 enum class CoevalAlgorithm {
   kGdGauss,
+  kGdGaussMatched,
   kGdEkf,
   kGdEkfNoFallback,
   kGdPf,
@@ -89,7 +100,7 @@ struct CoevaluationSettings {
   std::vector<double> beacon_noise_values_m = {0.0,  0.02, 0.04, 0.06, 0.08,
                                                0.10, 0.12, 0.14, 0.16, 0.18};
   std::vector<CoevalAlgorithm> algorithms = {
-      CoevalAlgorithm::kGdGauss, CoevalAlgorithm::kGdEkf, CoevalAlgorithm::kGdPf,
+      CoevalAlgorithm::kGdGauss, CoevalAlgorithm::kGdEkf, CoevalAlgorithm::kGdGaussMatched, CoevalAlgorithm::kGdPf,
       CoevalAlgorithm::kGdEkfCeres, CoevalAlgorithm::kBf, CoevalAlgorithm::kUraEkf,
       CoevalAlgorithm::kCentralized};
   // The [closed_loop] keys shared with losmimo-record, as ClosedLoopConfig holds them:
