@@ -164,8 +164,18 @@ TEST(CoevaluationApp, TinyConfig_EveryAlgorithmAndColumn_SameBytesInOneAndTwoThr
       EXPECT_GT(ekf_lateral_m, 0.0);
       EXPECT_NEAR(number(r, "loc_lateral_rmse_m"), ekf_lateral_m, 1e-9 * ekf_lateral_m + 1e-12);
       EXPECT_TRUE(std::isnan(number(r, "nees")));
+      // THEN: the paired differences are gd_ekf's columns minus its own, from the CSV.
+      const double travel_m = number(*ekf, "dist_to_icn095_m") - number(r, "dist_to_icn095_m");
+      if (std::isnan(travel_m)) {
+        EXPECT_TRUE(std::isnan(number(r, "paired_travel_diff_m")));
+      } else {
+        EXPECT_NEAR(number(r, "paired_travel_diff_m"), travel_m, 1e-8);
+      }
+      EXPECT_EQ(number(r, "paired_iterations_diff"), number(*ekf, "iterations") - number(r, "iterations"));
       continue;
     }
+    EXPECT_TRUE(std::isnan(number(r, "paired_travel_diff_m"))) << a;
+    EXPECT_TRUE(std::isnan(number(r, "paired_iterations_diff"))) << a;
     if (value != kLargestNoise_m) continue;
     // THEN (the matching): the beacon-only lateral RMSE is sqrt(2) x the swept per-axis value,
     // and every estimator beats it.

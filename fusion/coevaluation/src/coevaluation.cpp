@@ -55,8 +55,11 @@ localization::FilterConfig filter_config(const CoevaluationSettings& c, const lo
   return f;
 }
 
-std::vector<double> extras(double rmse, double lateral, double nees, double fallback, double beacon_lateral) {
-  return {rmse, lateral, nees, fallback, beacon_lateral};
+// The extra metrics in coevaluation_extra_metrics()'s order; the paired differences are
+// gd_gauss_matched's alone.
+std::vector<double> extras(double rmse, double lateral, double nees, double fallback, double beacon_lateral,
+                           double paired_travel_m = kNaN, double paired_iterations = kNaN) {
+  return {rmse, lateral, nees, fallback, beacon_lateral, paired_travel_m, paired_iterations};
 }
 
 double fallback_fraction(const fusion::ClosedLoopStats& s, int iterations) {
@@ -149,15 +152,15 @@ placement::RunResult centralized_run(const placement::Scenario& scenario, const 
   return r;
 }
 
-// gd_gauss_matched's sigma_loc_m: gd_ekf's lateral RMSE of this trial and point over sqrt(2)
-// (from its record when already run, else from its closed loop, run for that alone).
-double matched_sigma_loc_m(const std::vector<experiment::TrialRecord>& records,
-                           const std::function<experiment::TrialRecord()>& run_gd_ekf) {
+// gd_ekf's record of this trial and point: the one already made, else from its closed loop,
+// run for gd_gauss_matched alone.
+experiment::TrialRecord gd_ekf_record(const std::vector<experiment::TrialRecord>& records,
+                                      const std::function<experiment::TrialRecord()>& run_gd_ekf) {
   const std::string gd_ekf = to_string(CoevalAlgorithm::kGdEkf);
   for (const experiment::TrialRecord& r : records) {
-    if (r.algorithm == gd_ekf) return r.extra.at(1) / std::sqrt(2.0);
+    if (r.algorithm == gd_ekf) return r;
   }
-  return run_gd_ekf().extra.at(1) / std::sqrt(2.0);
+  return run_gd_ekf();
 }
 
 }  // namespace
@@ -230,15 +233,26 @@ std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::Ex
     placement::PlacementSettings p = s.placement;
     p.errors.sigma_loc_m = 0.0;
     switch (a) {
-      case CoevalAlgorithm::kGdGauss:
-      case CoevalAlgorithm::kGdGaussMatched: {
+      case CoevalAlgorithm::kGdGauss: {
         // The experiment's GD (one engine): its planner, stop rule and Gaussian localization.
-        p.errors.sigma_loc_m = a == CoevalAlgorithm::kGdGauss ? v : matched_sigma_loc_m(records, [&] {
+        p.errors.sigma_loc_m = v;
+        record(experiment::run_algorithm(s, p, experiment::Algorithm::kGd, trial, start, seed, s.placement.run),
+               extras(std::sqrt(3.0) * v, std::sqrt(2.0) * v, kNaN, kNaN, kNaN));
+        break;
+      }
+      case CoevalAlgorithm::kGdGaussMatched: {
+        const experiment::TrialRecord ekf = gd_ekf_record(records, [&] {
           return closed_loop_record(s, kSweepBeaconNoise, point, trial, CoevalAlgorithm::kGdEkf,
                                     coevaluation_closed_loop_config(c, scenario, CoevalAlgorithm::kGdEkf, v));
         });
-        record(experiment::run_algorithm(s, p, experiment::Algorithm::kGd, trial, start, seed, s.placement.run),
-               extras(std::sqrt(3.0) * p.errors.sigma_loc_m, std::sqrt(2.0) * p.errors.sigma_loc_m, kNaN, kNaN, kNaN));
+        p.errors.sigma_loc_m = ekf.extra.at(1) / std::sqrt(2.0);  // the same lateral RMSE as gd_ekf's
+        const placement::RunResult run =
+            experiment::run_algorithm(s, p, experiment::Algorithm::kGd, trial, start, seed, s.placement.run);
+        record(run, {});
+        const experiment::TrialRecord& own = records.back();
+        records.back().extra = extras(std::sqrt(3.0) * p.errors.sigma_loc_m, std::sqrt(2.0) * p.errors.sigma_loc_m,
+                                      kNaN, kNaN, kNaN, ekf.dist_to_icn095_m - own.dist_to_icn095_m,
+                                      static_cast<double>(ekf.iterations - own.iterations));
         break;
       }
       case CoevalAlgorithm::kBf: {

@@ -58,6 +58,10 @@
 //   nees                  average e^T P^-1 e of those estimates (3 when consistent)
 //   bf_fallback_fraction  UAV-iterations in BF fallback / (Nr x iterations) (closed loop only)
 //   beacon_lateral_rmse_m the beacon-only fixes' lateral RMSE (measured), the matching check
+//   paired_travel_diff_m  gd_gauss_matched only: gd_ekf's dist_to_icn095_m minus its own, same
+//                         trial and point (NaN when either did not reach ICN 0.95); summarised,
+//                         the paired mean difference with its 95% CI
+//   paired_iterations_diff gd_gauss_matched only: gd_ekf's iterations minus its own
 //
 // Settings: the [coevaluation] keys, and the [closed_loop] keys the closed-loop algorithms share
 // with losmimo-record (one spelling: fusion/closed_loop_settings.h): the true beacon range noise,
