@@ -19,7 +19,9 @@ function(losmimo_add_library name)
 endfunction()
 
 # losmimo_add_test(<name> SOURCES ... DEPS ... [LABELS ...])
-# One GoogleTest executable; every TEST becomes its own ctest entry.
+# One GoogleTest executable; every TEST becomes its own ctest entry. A TEST that calls
+# GTEST_SKIP is reported by ctest as skipped, not passed: CMake's gtest_discover_tests gives
+# every test SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]" (scripts/check-no-skips lists them).
 function(losmimo_add_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS;LABELS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})

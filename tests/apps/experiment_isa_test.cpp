@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "support/child_process.h"
+#include "support/dependencies.h"
 #include "support/files.h"
 
 #include <filesystem>
@@ -53,7 +54,7 @@ class ExperimentIsa : public ::testing::Test {
 
 TEST_F(ExperimentIsa, ForcedSse2_SameBytesAsTheWidest_AndMixedShardsMergeToThem) {
   const std::string widest = lp::to_string(lp::supported_isas().back());
-  if (widest == "sse2") GTEST_SKIP() << "this CPU runs SSE2 only: nothing to compare";
+  if (widest == "sse2") LOSMIMO_SKIP_MACHINE_DEPENDENT("this CPU runs SSE2 only: nothing to compare");
   // GIVEN: the same run on SSE2 and on the widest instruction set.
   ASSERT_EQ(run(app_args("sse2", root_ / "sse2"), "sse2"), 0) << log("sse2");
   ASSERT_EQ(run(app_args(widest, root_ / "wide"), "wide"), 0) << log("wide");

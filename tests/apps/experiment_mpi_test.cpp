@@ -1,10 +1,12 @@
 // MPI mode: `mpirun -np 2 losmimo-experiment ...` on loopback writes byte-identical results to
 // a single-process run, also when the two ranks run the kernels on different instruction sets
-// (with a note). Runs the real binary (LOSMIMO_EXPERIMENT_APP); skipped when mpirun or the app's
-// MPI support is absent.
+// (with a note). Runs the real binary (LOSMIMO_EXPERIMENT_APP). Without mpirun or the app's MPI
+// support: skipped when openmpi-bin / libopenmpi-dev is not installed, failed when it is
+// (support/dependencies.h).
 #include <gtest/gtest.h>
 
 #include "support/child_process.h"
+#include "support/dependencies.h"
 #include "support/files.h"
 
 #include <cstdlib>
@@ -36,10 +38,10 @@ class ExperimentMpi : public ::testing::Test {
  protected:
   void SetUp() override {
 #if !LOSMIMO_APP_HAS_MPI
-    GTEST_SKIP() << "losmimo-experiment was built without MPI (apt-get install libopenmpi-dev openmpi-bin)";
+    LOSMIMO_REQUIRE(false, "libopenmpi-dev", "MPI in losmimo-experiment (CMake found no MPI at configure time)");
 #endif
     mpirun_ = lt::find_on_path("mpirun");
-    if (mpirun_.empty()) GTEST_SKIP() << "mpirun not on PATH (apt-get install openmpi-bin): MPI test skipped";
+    LOSMIMO_REQUIRE(!mpirun_.empty(), "openmpi-bin", "the program mpirun on PATH");
     root_ = fs::path(::testing::TempDir()) / ("losmimo_mpi_" + std::to_string(::getpid()));
     fs::remove_all(root_);
     fs::create_directories(root_);
@@ -80,7 +82,7 @@ TEST_F(ExperimentMpi, TwoRanksOnLoopback_MatchOneProcessByteForByte) {
 
 TEST_F(ExperimentMpi, RanksOnDifferentInstructionSets_SameBytesWithANote) {
   const std::string widest = lp::to_string(lp::supported_isas().back());
-  if (widest == "sse2") GTEST_SKIP() << "this CPU runs SSE2 only: nothing to mix";
+  if (widest == "sse2") LOSMIMO_SKIP_MACHINE_DEPENDENT("this CPU runs SSE2 only: nothing to mix");
   // Rank 0 forced to SSE2, rank 1 on the widest (MPMD: one app context per rank).
   std::vector<std::string> argv = mpirun();
   const std::vector<std::string> app = app_args(root_ / "mpi_mixed");

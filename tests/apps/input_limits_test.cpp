@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "support/child_process.h"
+#include "support/dependencies.h"
 #include "support/files.h"
 
 namespace fs = std::filesystem;
@@ -60,7 +61,7 @@ class InputLimits : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
 #if defined(__SANITIZE_ADDRESS__)
-    GTEST_SKIP() << "an address-space limit does not fit AddressSanitizer's shadow memory";
+    LOSMIMO_SKIP_MACHINE_DEPENDENT("an AddressSanitizer build: an address-space limit does not fit its shadow memory");
 #endif
     root_ = fs::path(::testing::TempDir()) / ("losmimo_limits_" + std::to_string(::getpid()));
     fs::remove_all(root_);

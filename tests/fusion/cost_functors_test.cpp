@@ -1,5 +1,7 @@
-// Derivatives of every Ceres residual (fusion/cost_functors.h) and of the centralized penalty
-// (fusion/centralized.h) against numeric differentiation; a wrong Jacobian must be caught.
+// Every Ceres residual (fusion/cost_functors.h, fusion/pose_cost_functors.h) evaluated at a
+// chosen point against values worked out by hand from the formula above its functor; their
+// derivatives, and those of the centralized penalty (fusion/centralized.h), against numeric
+// differentiation; a wrong Jacobian must be caught.
 #include "losmimo/fusion/cost_functors.h"
 
 #include <gtest/gtest.h>
@@ -14,6 +16,7 @@
 
 #include "losmimo/fusion/centralized.h"
 #include "losmimo/fusion/csi.h"
+#include "losmimo/fusion/pose_cost_functors.h"
 #include "losmimo/placement/metrics.h"
 #include "losmimo/placement/ura.h"
 #include "fusion/gradient_probe.h"
@@ -29,6 +32,146 @@ constexpr double kNoiseVariance = 0.1;
 Eigen::Vector3d random_uav_position(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-25.0, 25.0);
   return Eigen::Vector3d(1000.0 + u(rng), u(rng), u(rng));
+}
+
+// ---- Residual values by hand. Each case: the point, the formula's arithmetic in a comment, the
+// residuals it gives. Every hand residual is at least kMinHandResidual in size and every sigma
+// differs from 1, so a residual with its sign flipped (or the arguments swapped, or the
+// 1/sigma dropped) misses by far more than kHandTolerance.
+constexpr double kHandTolerance = 1e-10;  // absolute, on residuals of size 0.25 .. 33
+constexpr double kMinHandResidual = 0.2;
+
+// Largest |r_i - expected_i| of `cost` at `blocks`; also checks the residual count and that
+// the hand values are large enough to tell a sign slip.
+double hand_mismatch(const ceres::CostFunction& cost, const std::vector<const double*>& blocks,
+                     const Eigen::VectorXd& expected) {
+  EXPECT_EQ(cost.num_residuals(), expected.size());
+  EXPECT_GE(expected.cwiseAbs().minCoeff(), kMinHandResidual) << expected.transpose();
+  Eigen::VectorXd r(cost.num_residuals());
+  EXPECT_TRUE(cost.Evaluate(blocks.data(), r.data(), nullptr));
+  return (r - expected).cwiseAbs().maxCoeff();
+}
+
+TEST(HandResiduals, PositionPrior_WhitenedByTheInverseCholeskyFactor) {
+  // cov = [4 2 0; 2 2 0; 0 0 1] = L L^T with L = [2 0 0; 1 1 0; 0 0 1]
+  //   (L L^T: row 1 (2,0,0).(2,1,0) = 4, 2; row 2 (1,1,0).(1,1,0) = 2; z: 1),
+  // S = L^-1 = [0.5 0 0; -0.5 1 0; 0 0 1] (S L = I).
+  // q - mean = (1001, 3.5, -6) - (1000, 2, -3) = (1, 1.5, -3);
+  // r = S (1, 1.5, -3) = (0.5 * 1, -0.5 * 1 + 1.5, -3) = (0.5, 1, -3).
+  // (Any S' = U S with U orthogonal whitens as well and gives other residuals: the header fixes
+  // S = L^-1.)
+  const Eigen::Vector3d mean_m(1000.0, 2.0, -3.0);
+  Eigen::Matrix3d cov_m2;
+  cov_m2 << 4.0, 2.0, 0.0, 2.0, 2.0, 0.0, 0.0, 0.0, 1.0;
+  const std::unique_ptr<ceres::CostFunction> cost(PositionPriorCost::Create(mean_m, cov_m2));
+  const Eigen::Vector3d q_m(1001.0, 3.5, -6.0);
+  EXPECT_LT(hand_mismatch(*cost, {q_m.data()}, Eigen::Vector3d(0.5, 1.0, -3.0)), kHandTolerance);
+}
+
+TEST(HandResiduals, Beacon_RangeAzimuthElevationOverTheirSigmas) {
+  // q = (3, 4, 12): rho = 5, |q| = 13, atan2(4, 3) = 0.9272952180016122,
+  // atan2(12, 5) = 1.176005207095135. Measured (12.5 m, 0.9 rad, 1.2 rad), sigma_range 0.25 m,
+  // sigma_angle 0.01 rad:
+  //   r0 = (13 - 12.5) / 0.25 = 2
+  //   r1 = (0.9272952180016122 - 0.9) / 0.01 = 2.7295218001612165
+  //   r2 = (1.176005207095135 - 1.2) / 0.01 = -2.3994792904864948
+  const Eigen::Vector3d q_m(3.0, 4.0, 12.0);
+  const Eigen::Vector3d expected(2.0, 2.7295218001612165, -2.3994792904864948);
+  const std::unique_ptr<ceres::CostFunction> cost(BeaconCost::Create(12.5, 0.9, 1.2, 0.25, 0.01));
+  EXPECT_LT(hand_mismatch(*cost, {q_m.data()}, expected), kHandTolerance);
+  // The elevation wraps too: measured 1.2 - 2 pi = -5.083185307179586 rad is the same
+  // direction; 1.176005207095135 + 5.083185307179586 = 6.259190514274721, wrapped
+  // 6.259190514274721 - 2 pi = -0.0239947929048649: the same residuals.
+  const std::unique_ptr<ceres::CostFunction> wrapped(
+      BeaconCost::Create(12.5, 0.9, -5.083185307179586, 0.25, 0.01));
+  EXPECT_LT(hand_mismatch(*wrapped, {q_m.data()}, expected), kHandTolerance);
+}
+
+TEST(HandResiduals, Displacement_FromAToBMinusTheMeasuredOverSigma) {
+  // q_b - q_a = (1001.5, 0.5, 2.25) - (1000, 1, 2) = (1.5, -0.5, 0.25); minus d = (1, -0.25,
+  // 0.5): (0.5, -0.25, -0.25); over sigma 0.25 m: (2, -1, -1). (a and b swapped would give
+  // (-1.5 - 1, 0.5 + 0.25, -0.25 - 0.5) / 0.25 = (-10, 3, -3).)
+  const Eigen::Vector3d q_a_m(1000.0, 1.0, 2.0);
+  const Eigen::Vector3d q_b_m(1001.5, 0.5, 2.25);
+  const std::unique_ptr<ceres::CostFunction> cost(DisplacementCost::Create(Eigen::Vector3d(1.0, -0.25, 0.5), 0.25));
+  EXPECT_LT(hand_mismatch(*cost, {q_a_m.data(), q_b_m.data()}, Eigen::Vector3d(2.0, -1.0, -1.0)), kHandTolerance);
+}
+
+TEST(HandResiduals, CsiPhase_PathDifferenceTimesWavenumberWrapped) {
+  // q = (4, 0, 3), |q| = 5. delta_k = (|p_k|^2 - 2 p_k . q) / (|q - p_k| + |q|), which equals
+  // |q - p_k| - |q| (multiply by |q - p_k| + |q|: |q - p_k|^2 - |q|^2 = |p_k|^2 - 2 p_k . q):
+  //   p0 = (0, 0, 0): (0 - 0) / (5 + 5) = 0
+  //   p1 = (0, 0, 3): |p|^2 = 9, p.q = 9, |q - p| = |(4, 0, 0)| = 4: (9 - 18) / 9 = -1 = 4 - 5
+  //   p2 = (4, 0, 0): |p|^2 = 16, p.q = 16, |q - p| = |(0, 0, 3)| = 3: (16 - 32) / 8 = -2 = 3 - 5
+  //   p3 = (4, 3, 3): |p|^2 = 34, p.q = 25, |q - p| = |(0, -3, 0)| = 3: (34 - 50) / 8 = -2
+  // kappa = 0.3 rad/m, psi = 0.2 rad, arg y = (0.5, 1.0, -3.0, 2.9) rad, sigma 0.1 rad:
+  //   r0 = (0.5 + 0 - 0.2) / 0.1 = 3
+  //   r1 = (1.0 - 0.3 - 0.2) / 0.1 = 5
+  //   r2 = wrap(-3.0 - 0.6 - 0.2) / 0.1 = (-3.8 + 2 pi) / 0.1 = 2.4831853071795864 / 0.1
+  //      = 24.831853071795862
+  //   r3 = (2.9 - 0.6 - 0.2) / 0.1 = 21
+  Eigen::Matrix3Xd antennas_m(3, 4);
+  antennas_m << 0.0, 0.0, 4.0, 4.0,  //
+      0.0, 0.0, 0.0, 3.0,            //
+      0.0, 3.0, 0.0, 3.0;
+  const Eigen::Vector4d measured_phase_rad(0.5, 1.0, -3.0, 2.9);
+  const std::unique_ptr<ceres::CostFunction> cost(CsiPhaseCost::Create(measured_phase_rad, antennas_m, 0.3, 0.1));
+  const Eigen::Vector3d q_m(4.0, 0.0, 3.0);
+  const double psi_rad = 0.2;
+  EXPECT_LT(hand_mismatch(*cost, {q_m.data(), &psi_rad}, Eigen::Vector4d(3.0, 5.0, 24.831853071795862, 21.0)),
+            kHandTolerance);
+}
+
+TEST(HandResiduals, PosePrior_YawDifferenceWrapped) {
+  // cov = diag(0.25, 4, 1, 0.01): S = diag(2, 0.5, 1, 10).
+  // pose - mean = (1.5, 0, 3.25, -3.0) - (1, 2, 3, 3.0) = (0.5, -2, 0.25, -6.0);
+  // wrap(-6.0) = -6.0 + 2 pi = 0.28318530717958623;
+  // r = (2 * 0.5, 0.5 * -2, 1 * 0.25, 10 * 0.28318530717958623) = (1, -1, 0.25, 2.8318530717958623).
+  const Eigen::Vector4d mean(1.0, 2.0, 3.0, 3.0);
+  const Eigen::Matrix4d cov = Eigen::Vector4d(0.25, 4.0, 1.0, 0.01).asDiagonal();
+  const std::unique_ptr<ceres::CostFunction> cost(PosePriorCost::Create(mean, cov));
+  const Eigen::Vector4d pose(1.5, 0.0, 3.25, -3.0);
+  EXPECT_LT(hand_mismatch(*cost, {pose.data()}, Eigen::Vector4d(1.0, -1.0, 0.25, 2.8318530717958623)),
+            kHandTolerance);
+}
+
+TEST(HandResiduals, Odometry_DisplacementInTheFrameOfA) {
+  // a = (1, 2, 0.5, yaw pi/2), b = (0, 4, 1.5, yaw -3.0): (dx, dy) = (-1, 2);
+  // Rz(-pi/2) (dx, dy) = (cos dx + sin dy, -sin dx + cos dy) = (0 + 2, 1 + 0) = (2, 1).
+  // u = (1.5, 1.25, 0.75, 0.1):
+  //   e = (2 - 1.5, 1 - 1.25, (1.5 - 0.5) - 0.75, wrap(-3.0 - pi/2 - 0.1))
+  //     = (0.5, -0.25, 0.25, wrap(-4.670796326794896) = -4.670796326794896 + 2 pi = 1.61238898038469).
+  // cov = diag(0.01, 0.04, 0.25, 0.0025): S = diag(10, 5, 2, 20):
+  //   r = (5, -1.25, 0.5, 32.2477796076938).
+  // (The world-frame displacement, unrotated, would give e0 = -1 - 1.5 = -2.5.)
+  const Eigen::Vector4d a(1.0, 2.0, 0.5, M_PI / 2.0);
+  const Eigen::Vector4d b(0.0, 4.0, 1.5, -3.0);
+  const Eigen::Matrix4d cov = Eigen::Vector4d(0.01, 0.04, 0.25, 0.0025).asDiagonal();
+  const std::unique_ptr<ceres::CostFunction> cost(OdometryCost::Create(Eigen::Vector4d(1.5, 1.25, 0.75, 0.1), cov));
+  EXPECT_LT(hand_mismatch(*cost, {a.data(), b.data()}, Eigen::Vector4d(5.0, -1.25, 0.5, 32.2477796076938)),
+            kHandTolerance);
+}
+
+TEST(HandResiduals, Range_FromTheSensorRotatedWithTheRobot) {
+  // pose (1, 2, 0.5, yaw pi/2), sensor s = (0.5, 0, 0.25) on the robot: Rz(pi/2) s = (0, 0.5,
+  // 0.25), c = (1, 2.5, 0.75); beacon (4, 6.5, 0.75): c - b = (-3, -4, 0), |c - b| = 5;
+  // range 4.8 m, sigma 0.1 m: r = (5 - 4.8) / 0.1 = 2. (The sensor unrotated, c = (1.5, 2,
+  // 0.75), gives |(-2.5, -4.5, 0)| = 5.148 and r = 3.48.)
+  const std::unique_ptr<ceres::CostFunction> cost(
+      RangeCost::Create(4.8, Eigen::Vector3d(0.5, 0.0, 0.25), Eigen::Vector3d(4.0, 6.5, 0.75), 0.1));
+  const Eigen::Vector4d pose(1.0, 2.0, 0.5, M_PI / 2.0);
+  Eigen::VectorXd expected(1);
+  expected << 2.0;
+  EXPECT_LT(hand_mismatch(*cost, {pose.data()}, expected), kHandTolerance);
+}
+
+TEST(HandResiduals, SignFlippedExpectation_IsCaught) {
+  // Negative control of the comparison itself: the beacon case with every hand value negated
+  // (what a cost with the sign flipped would return) misses by 2 |r| >= 2 kMinHandResidual.
+  const Eigen::Vector3d q_m(3.0, 4.0, 12.0);
+  const std::unique_ptr<ceres::CostFunction> cost(BeaconCost::Create(12.5, 0.9, 1.2, 0.25, 0.01));
+  const Eigen::Vector3d flipped = -Eigen::Vector3d(2.0, 2.7295218001612165, -2.3994792904864948);
+  EXPECT_GT(hand_mismatch(*cost, {q_m.data()}, flipped), 2.0 * kMinHandResidual);
 }
 
 TEST(PositionPriorCost, Jacobian_MatchesNumericAtRandomPoints) {

@@ -15,6 +15,7 @@
 #include "losmimo/rawlog/range_replay.h"
 #include "losmimo/rawlog/recorder.h"
 #include "rawlog_test_util.h"
+#include "support/dependencies.h"
 
 namespace losmimo::rawlog {
 namespace {
@@ -25,8 +26,7 @@ const std::string kUwbIni = kConfigs + "/ro-localization/UWB_localization_demo.i
 const std::string kUwbLog = kData + "/uwb_ro-localization_demo.rawlog";
 const std::string kRoSlamIni = kConfigs + "/pf-localization/ro-localization-demo.ini";
 
-#define SKIP_WITHOUT(path) \
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found: install Debian's mrpt-common (scripts/setup does)"
+#define SKIP_WITHOUT(path) LOSMIMO_REQUIRE_FILE(path, "mrpt-common")
 
 std::string error_of(const std::string& ini_text) {
   const std::string path = test_support::temp_path("app.ini");

@@ -25,6 +25,7 @@
 #include "losmimo/rawlog/beacon_list.h"
 #include "losmimo/rawlog/range_replay.h"
 #include "rawlog_test_util.h"
+#include "support/dependencies.h"
 
 namespace losmimo::rawlog {
 namespace {
@@ -37,9 +38,9 @@ const std::string kDemoBeacons = kDemoDir + "/RO-SLAM_demo_ground_truth.txt";
 constexpr double kDemoStdError_m = 0.01;  // the log's stdError
 constexpr int kDemoFrames = 100;
 
-#define SKIP_WITHOUT_DEMO()                                                                       \
-  if (!std::filesystem::exists(kDemoLog) || !std::filesystem::exists(kDemoBeacons))              \
-  GTEST_SKIP() << kDemoLog << " not found: install Debian's mrpt-common (scripts/setup does)"
+#define SKIP_WITHOUT_DEMO()                  \
+  LOSMIMO_REQUIRE_FILE(kDemoLog, "mrpt-common"); \
+  LOSMIMO_REQUIRE_FILE(kDemoBeacons, "mrpt-common")
 
 RangeLog demo_log() {
   RawlogReader reader = RawlogReader::open_file(kDemoLog);

@@ -1,11 +1,11 @@
 // Bad rawlogs: truncated at many offsets, random bytes corrupted (seeded), a corrupted
 // length field, and a foreign rawlog with types the replay cannot use. Each case: a clear
-// report, the readable prefix processed, no crash, no hang, no large allocation.
+// report, the readable prefix processed, no crash, no large allocation. No hang: ctest's TIMEOUT
+// on these tests (tests/rawlog/CMakeLists.txt) bounds them; they assert no wall-clock time.
 #include <gtest/gtest.h>
 
 #include <zlib.h>
 
-#include <chrono>
 #include <cstring>
 #include <random>
 
@@ -29,7 +29,6 @@ namespace {
 using test_support::read_file;
 using test_support::small_mission;
 using test_support::temp_path;
-using Clock = std::chrono::steady_clock;
 
 // One small recorded mission, gzip bytes and uncompressed bytes.
 struct Recorded {
@@ -72,19 +71,17 @@ TEST(RawlogCorruption, TruncatedAtManyOffsets_PrefixProcessedAndReported) {
       // GIVEN: the file cut at this fraction of its bytes.
       const std::size_t cut = static_cast<std::size_t>(fraction * static_cast<double>(full.size()));
       const std::string bytes = full.substr(0, cut);
-      const auto t0 = Clock::now();
       // WHEN
       RawlogReader reader = RawlogReader::from_bytes(bytes);
       std::int64_t n = 0;
       while (reader.next()) ++n;
-      // THEN: stopped as truncated, saying where; fewer objects than written; fast.
+      // THEN: stopped as truncated, saying where; fewer objects than written.
       const RawlogReadStatus& s = reader.status();
       SCOPED_TRACE((compressed ? "gzip cut at " : "plain cut at ") + std::to_string(cut));
       EXPECT_EQ(s.stop, RawlogStop::kTruncated) << s.describe();
       EXPECT_LT(n, r.objects);
       EXPECT_EQ(s.objects, n);
       EXPECT_NE(s.describe().find("object " + std::to_string(n)), std::string::npos) << s.describe();
-      EXPECT_LT(std::chrono::duration<double>(Clock::now() - t0).count(), 2.0);
       // AND: the verified epochs before the cut are replayed (late cuts keep most of them).
       if (n > 0) {
         const MissionLog log = load_bytes(bytes);
@@ -112,7 +109,6 @@ TEST(RawlogCorruption, RandomBytesCorrupted_StopsCleanlyWithAReason) {
       const std::size_t at = 10 + rng() % (bytes.size() - 10);
       bytes[at] = static_cast<char>(rng() & 0xFF);
     }
-    const auto t0 = Clock::now();
     // WHEN: strict read + interpretation.
     MissionLog log;
     try {
@@ -122,8 +118,6 @@ TEST(RawlogCorruption, RandomBytesCorrupted_StopsCleanlyWithAReason) {
     }
     // THEN: either stopped with a reason, or an integrity mark caught it, or (a change inside
     // a value that no check covers: the digest catches those) it is complete.
-    const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-    EXPECT_LT(seconds, 2.0) << "case " << i;
     if (log.read_status.stop != RawlogStop::kEnd) {
       ++stopped_early;
       EXPECT_FALSE(log.read_status.reason.empty());

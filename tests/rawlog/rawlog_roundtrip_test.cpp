@@ -27,6 +27,7 @@
 #include "losmimo/rawlog/recorder.h"
 #include "losmimo/common/input_error.h"
 #include "rawlog/rawlog_test_util.h"
+#include "support/dependencies.h"
 
 namespace losmimo::rawlog {
 namespace {
@@ -202,8 +203,7 @@ TEST(RawlogRoundTrip, EveryObservationReadsBackEqualToWhatTheLoopProduced) {
 }
 
 TEST(RawlogRoundTrip, StockRawlogEditInfo_CountsWhatWasWritten) {
-  if (std::system("command -v rawlog-edit > /dev/null 2>&1") != 0)
-    GTEST_SKIP() << "rawlog-edit not installed (Debian mrpt-apps; scripts/setup installs it)";
+  LOSMIMO_REQUIRE_PROGRAM("rawlog-edit", "mrpt-apps");
   // GIVEN
   const std::string path = temp_path("info.rawlog");
   const RecordResult rec = record_mission(small_mission(), {path, 6, {}});

@@ -1,6 +1,6 @@
 // losmimo's range-only replay beside MRPT's stock pf-localization (Debian mrpt-apps) on the
-// shipped RO-SLAM demo, same log and beacon map. Skipped, saying so, without the stock app or
-// the dataset.
+// shipped RO-SLAM demo, same log and beacon map. Without the stock app or the dataset: skipped
+// when their Debian package is not installed, failed when it is (support/dependencies.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,6 +13,7 @@
 #include "losmimo/rawlog/mrpt_app_config.h"
 #include "losmimo/rawlog/range_replay.h"
 #include "rawlog_test_util.h"
+#include "support/dependencies.h"
 
 namespace losmimo::rawlog {
 namespace {
@@ -48,12 +49,9 @@ std::string corrected_config(const std::string& dir) {
 }
 
 TEST(StockPfLocalization, RoSlamDemo_LosmimoTrackWithinStatedDistanceOfTheStockApps) {
-  if (std::system("command -v pf-localization >/dev/null 2>&1") != 0) {
-    GTEST_SKIP() << "stock pf-localization not found: install Debian's mrpt-apps (scripts/setup does)";
-  }
-  if (!std::filesystem::exists(kLog) || !std::filesystem::exists(kIni)) {
-    GTEST_SKIP() << kLog << " or " << kIni << " not found: install Debian's mrpt-common";
-  }
+  LOSMIMO_REQUIRE_PROGRAM("pf-localization", "mrpt-apps");
+  LOSMIMO_REQUIRE_FILE(kLog, "mrpt-common");
+  LOSMIMO_REQUIRE_FILE(kIni, "mrpt-common");
   // GIVEN: the stock app's estimates ("PDF estimation" line j = pair j = sensory frame j + 1).
   const std::string dir = test_support::temp_path("stock_pf");
   std::filesystem::remove_all(dir);

@@ -1,7 +1,8 @@
 // A log written by losmimo-record, used by MRPT's stock tools (Debian mrpt-apps): one UAV's
 // ODOMETRY and BS_RANGES streams kept with stock rawlog-edit, then stock pf-localization run to
-// the end on them with a config built from the beacons.ini written beside the log. Skipped,
-// saying so, without the stock tools.
+// the end on them with a config built from the beacons.ini written beside the log. Without the
+// stock tools: skipped when mrpt-apps is not installed, failed when it is
+// (support/dependencies.h).
 //
 // Geometry: one beacon (the BS) about 1 km away gives radial information only. So the stock
 // estimate is checked where ranges can place it (its distance to the BS against the truth's)
@@ -20,6 +21,7 @@
 #include "losmimo/rawlog/log.h"
 #include "losmimo/rawlog/recorder.h"
 #include "rawlog_test_util.h"
+#include "support/dependencies.h"
 
 namespace losmimo::rawlog {
 namespace {
@@ -31,10 +33,6 @@ namespace {
 // that spread (its 1-sigma is 50 / sqrt(12) = 14 m), hence the margin.
 constexpr double kRadialTolerance_m = 0.5;  // 5 range sigmas
 constexpr double kLateralMargin_m = 10.0;   // the stock estimate vs dead reckoning
-
-bool have(const char* tool) {
-  return std::system((std::string("command -v ") + tool + " >/dev/null 2>&1").c_str()) == 0;
-}
 
 // pf-localization's remaining sections, appended to the written beacons.ini (MRPT merges a
 // repeated section): the log, no GUI, the per-step motion noise of observation-only logs
@@ -51,9 +49,8 @@ std::string pf_config(const std::string& beacons_ini, const std::string& log, co
 }
 
 TEST(StockPfLocalization, RecordedMission_OneUavsStreamLocalizesOnTheWrittenBeaconsIni) {
-  if (!have("pf-localization") || !have("rawlog-edit")) {
-    GTEST_SKIP() << "stock pf-localization / rawlog-edit not found: install Debian's mrpt-apps (scripts/setup does)";
-  }
+  LOSMIMO_REQUIRE_PROGRAM("pf-localization", "mrpt-apps");
+  LOSMIMO_REQUIRE_PROGRAM("rawlog-edit", "mrpt-apps");
   // GIVEN: a recorded mission (4 UAVs, 12 epochs), its beacons.ini, and UAV 0's two standard
   // streams kept by stock rawlog-edit.
   const std::string dir = test_support::temp_path("stock_record");
