@@ -1,4 +1,17 @@
-# Small helpers shared by every losmimo target: one place for warnings and layout.
+# Small helpers shared by every losmimo target: one place for warnings, layout and installation.
+#
+# Installation is part of the helpers, so that a target added later is installed without edits:
+#   losmimo_add_library  installs lib/liblosmimo_<name>.a, exports losmimo::<name> (export set
+#                        losmimoTargets, cmake/LosmimoPackage.cmake writes the package) and installs
+#                        <name>/include/ (every header below it, subfolders kept) into include/
+#   losmimo_add_app      installs the executable into bin/
+# Both add the target to `losmimo_dist` (everything installed: what scripts/setup builds by default,
+# without the tests and benchmarks).
+include(GNUInstallDirs)
+
+if(NOT TARGET losmimo_dist)
+  add_custom_target(losmimo_dist)
+endif()
 
 # Warnings as errors on our own code only (dependencies come in as -isystem).
 function(losmimo_target_warnings target)
@@ -7,15 +20,31 @@ function(losmimo_target_warnings target)
 endfunction()
 
 # losmimo_add_library(<name> SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
-# Creates losmimo_<name> (alias losmimo::<name>) with headers in <name>/include.
+# Creates losmimo_<name> (alias losmimo::<name>) with headers in <name>/include (the folder of
+# the calling CMakeLists.txt), installed and exported as losmimo::<name>. Dependencies of the
+# exported targets must be imported targets of a package listed in cmake/LosmimoPackage.cmake
+# (a new one stops the configure step there, naming it).
 function(losmimo_add_library name)
   cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
   add_library(losmimo_${name} ${ARG_SOURCES})
   add_library(losmimo::${name} ALIAS losmimo_${name})
+  set_target_properties(losmimo_${name} PROPERTIES EXPORT_NAME ${name})
   target_include_directories(losmimo_${name} PUBLIC
-    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>)
+    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   target_link_libraries(losmimo_${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
   losmimo_target_warnings(losmimo_${name})
+
+  install(TARGETS losmimo_${name} EXPORT losmimoTargets
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+      FILES_MATCHING PATTERN "*.h" PATTERN "*.hpp" PATTERN "*.inl")
+  endif()
+  set_property(GLOBAL APPEND PROPERTY LOSMIMO_LIBRARIES losmimo_${name})
+  add_dependencies(losmimo_dist losmimo_${name})
 endfunction()
 
 # losmimo_add_test(<name> SOURCES ... DEPS ... [LABELS ...])
@@ -34,10 +63,14 @@ function(losmimo_add_test name)
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${ARG_LABELS}")
 endfunction()
 
-# losmimo_add_app(<name> SOURCES ... DEPS ...): a thin main over a library entry point.
+# losmimo_add_app(<name> SOURCES ... DEPS ...): a thin main over a library entry point, installed
+# into bin/. LOSMIMO_VERSION (the project's version, a string) is defined for its --version.
 function(losmimo_add_app name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS})
+  target_compile_definitions(${name} PRIVATE LOSMIMO_VERSION="${PROJECT_VERSION}")
   losmimo_target_warnings(${name})
+  install(TARGETS ${name} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  add_dependencies(losmimo_dist ${name})
 endfunction()
