@@ -3,10 +3,12 @@
 #include <iostream>
 
 #include "losmimo/apps/eval_app.h"
+#include "version_flag.h"
 
 int main(int argc, char** argv) {
   losmimo::apps::EvalOptions options;
   CLI::App app{"Metrics of UAV positions in a LoS MIMO scenario (losmimo)"};
+  losmimo::apps::add_version_flag(app);
   app.add_option("--positions", options.positions_path, "CSV of UAV positions x,y,z [m]")->required();
   app.add_option("--config", options.config_path, "INI scenario (default: the paper's)");
   app.add_option("--set", options.overrides, "override a key: section.key=value (repeatable)");

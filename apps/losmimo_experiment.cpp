@@ -19,6 +19,7 @@
 #include "losmimo/apps/experiment_app.h"
 #include "losmimo/coevaluation/extensions.h"
 #include "losmimo/experiment/channel_sweeps.h"
+#include "version_flag.h"
 
 namespace {
 
@@ -56,6 +57,7 @@ int main(int argc, char** argv) {
   losmimo::apps::ExperimentOptions options;
   std::string out_dir = "results", shard, resume_dir;
   CLI::App app{"Monte Carlo placement experiments: the paper's Figs 1-3 (losmimo)"};
+  losmimo::apps::add_version_flag(app);
   app.add_option("--config", options.config_path, "INI config (default: the paper's setup, quick trial count)");
   app.add_option("--set", options.overrides, "override a key: section.key=value (repeatable)");
   CLI::Option* out_option = app.add_option("--out", out_dir, "output directory")->capture_default_str();

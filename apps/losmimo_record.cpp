@@ -5,10 +5,12 @@
 #include <iostream>
 
 #include "losmimo/apps/record_app.h"
+#include "version_flag.h"
 
 int main(int argc, char** argv) {
   losmimo::apps::RecordAppOptions options;
   CLI::App app{"Record one closed-loop losmimo mission as an MRPT rawlog"};
+  losmimo::apps::add_version_flag(app);
   app.add_option("--config", options.config_path, "mission INI (default: built-in defaults)");
   app.add_option("--set", options.overrides, "override a key: section.key=value (repeatable)");
   app.add_option("--out", options.out_path, "output rawlog (gzip), written as <out>.partial until complete")->required();

@@ -7,10 +7,12 @@
 #include <iostream>
 
 #include "losmimo/apps/replay_app.h"
+#include "version_flag.h"
 
 int main(int argc, char** argv) {
   losmimo::apps::ReplayAppOptions options;
   CLI::App app{"Replay a rawlog through an estimator and evaluate the placement along it"};
+  losmimo::apps::add_version_flag(app);
   app.add_option("rawlog", options.rawlog_path, "input rawlog (gzip or plain)")->required();
   app.add_option("--estimator", options.estimator, "ekf or pf (default: as recorded)");
   app.add_flag("--refine", options.refine,
