@@ -72,7 +72,7 @@ inline Requirement requirement(bool present, bool package_installed, const std::
   if (present) return {};
   if (!package_installed) {
     return {Verdict::kSkip, what + " is missing and Debian package " + package +
-                                " is not installed (scripts/setup installs it)"};
+                                " is not installed (scripts/setup --tests installs it)"};
   }
   return {Verdict::kFail, what + " is missing although Debian package " + package +
                               " is installed: it should provide it (a wrong path, or a broken "
