@@ -124,8 +124,8 @@ TEST(CoevaluationApp, TinyConfig_EveryAlgorithmAndColumn_SameBytesInOneAndTwoThr
   // THEN: the extra columns, and one row per (sweep, point, algorithm, trial).
   std::vector<std::string> header;
   const auto rows = read_rows(dir1 / "trials.csv", &header);
-  for (const std::string& c : coevaluation_extra_metrics()) {
-    EXPECT_NE(std::find(header.begin(), header.end(), c), header.end()) << c;
+  for (const losmimo::experiment::ExtensionMetric& c : coevaluation_metrics()) {
+    EXPECT_NE(std::find(header.begin(), header.end(), c.name), header.end()) << c.name;
   }
   std::map<std::string, int> count;
   for (const auto& r : rows) ++count[r.at("sweep") + "/" + r.at("algorithm")];
@@ -251,14 +251,14 @@ TEST(CoevaluationOutage, EightUavsLoseTheBeaconMidMission_TheyFallBackAndTheSwar
     // THEN: nobody falls back without an outage; with it the lost UAVs do (if the run lasts
     // past the degradation, epoch 15), and the swarm still reaches the target.
     EXPECT_TRUE(none[0].converged) << "trial " << trial;
-    EXPECT_EQ(none[0].extra.at(3), 0.0);
+    EXPECT_EQ(none[0].extension.at(kBfFallbackFraction), 0.0);
     EXPECT_TRUE(lost[0].converged) << "trial " << trial;
     if (lost[0].iterations > 16) {
       ++observed;
-      EXPECT_GT(lost[0].extra.at(3), 0.0) << "trial " << trial;
+      EXPECT_GT(lost[0].extension.at(kBfFallbackFraction), 0.0) << "trial " << trial;
       EXPECT_GT(lost[0].probe_dist_m, 0.0) << "trial " << trial;  // BF probe flights
     }
-    EXPECT_LE(lost[0].extra.at(3), 0.5);  // only 8 of 16 UAVs can fall back
+    EXPECT_LE(lost[0].extension.at(kBfFallbackFraction), 0.5);  // only 8 of 16 UAVs can fall back
   }
   EXPECT_GE(observed, 2);
 }

@@ -65,11 +65,12 @@ TEST(ChannelSweeps, OffPointsWithoutErrors_EqualTheBuiltInSweepsRuns) {
     for (std::size_t i = 0; i < today.size(); ++i) {
       expect_same_run(today[i], channel[i], sweep);
       // The extra columns: the LoS values are the reported ones, and the stop test saw them too.
-      ASSERT_EQ(channel[i].extra.size(), channel_sweep_extra_metrics().size());
-      EXPECT_EQ(channel[i].extra[0], channel[i].final_icn) << sweep;
-      EXPECT_EQ(channel[i].extra[1], channel[i].final_icn) << sweep;
-      EXPECT_EQ(channel[i].extra[2], channel[i].sum_rate_nv_bps_hz) << sweep;
-      EXPECT_EQ(channel[i].extra[3], channel[i].sum_rate_zf_bps_hz) << sweep;
+      const MetricValues& x = channel[i].extension;
+      EXPECT_EQ(extension_columns(channel[i], channel_sweep_metrics()).size(), 4u);  // every one set
+      EXPECT_EQ(x.at(kFinalIcnLos), channel[i].final_icn) << sweep;
+      EXPECT_EQ(x.at(kFinalIcnMeasured), channel[i].final_icn) << sweep;
+      EXPECT_EQ(x.at(kSumRateNvLosBpsHz), channel[i].sum_rate_nv_bps_hz) << sweep;
+      EXPECT_EQ(x.at(kSumRateZfLosBpsHz), channel[i].sum_rate_zf_bps_hz) << sweep;
     }
   }
 }
@@ -86,16 +87,17 @@ TEST(ChannelSweeps, FadingEvalDraws_ChangeOnlyTheReportedMetrics) {
     // THEN the runs and the LoS metrics are the same; the faded means are not
     EXPECT_TRUE(a[i].final_m == b[i].final_m) << a[i].algorithm;
     EXPECT_EQ(a[i].iterations, b[i].iterations) << a[i].algorithm;
-    EXPECT_EQ(a[i].extra, b[i].extra) << a[i].algorithm;
+    EXPECT_EQ(extension_columns(a[i], channel_sweep_metrics()), extension_columns(b[i], channel_sweep_metrics()))
+        << a[i].algorithm;
     EXPECT_NE(a[i].final_icn, b[i].final_icn) << a[i].algorithm;
   }
   // AND where the LoS channel is well conditioned (the URA's, ICN ~1) the faded ICN is below it:
   // scatter spreads equal singular values (of an ill-conditioned channel it may raise the ICN)
   int well_conditioned = 0;
   for (const TrialRecord& r : a) {
-    if (r.extra[0] < 0.9) continue;
+    if (r.extension.at(kFinalIcnLos) < 0.9) continue;
     ++well_conditioned;
-    EXPECT_LT(r.final_icn, r.extra[0]) << r.algorithm;
+    EXPECT_LT(r.final_icn, r.extension.at(kFinalIcnLos)) << r.algorithm;
   }
   EXPECT_GT(well_conditioned, 0);
 }
@@ -113,7 +115,7 @@ TEST(ChannelSweeps, RicianK_ChangesTheMeasuringMoversAndTheReportedChannelOnly) 
       // while the measured ICN stays low: rounding only), the same LoS metrics, and the faded
       // ICN below them
       EXPECT_LT((faded[i].final_m - los[i].final_m).cwiseAbs().maxCoeff(), kSameSlot_m);
-      EXPECT_NEAR(faded[i].extra[0], los[i].final_icn, 1e-9);
+      EXPECT_NEAR(faded[i].extension.at(kFinalIcnLos), los[i].final_icn, 1e-9);
       EXPECT_LT(faded[i].final_icn, los[i].final_icn);
     } else {
       // AND GD and BF, which see measured CSI, move differently
@@ -132,9 +134,9 @@ TEST(ChannelSweeps, CsiNoise_ChangesTheRunsButReportsTheTrueChannel) {
     const placement::LinkMetrics m =
         placement::evaluate_link(model.matrix(noisy[i].final_m), s.placement.scenario.noise_variance());
     EXPECT_EQ(noisy[i].final_icn, m.icn) << noisy[i].algorithm;
-    EXPECT_EQ(noisy[i].extra[0], m.icn) << noisy[i].algorithm;
+    EXPECT_EQ(noisy[i].extension.at(kFinalIcnLos), m.icn) << noisy[i].algorithm;
     // AND the measured ICN the stop test saw is below the true one
-    EXPECT_LT(noisy[i].extra[1], noisy[i].final_icn) << noisy[i].algorithm;
+    EXPECT_LT(noisy[i].extension.at(kFinalIcnMeasured), noisy[i].final_icn) << noisy[i].algorithm;
     // AND the movers moved differently; the URA (no measurement) did not
     if (noisy[i].algorithm == "ura") {
       EXPECT_LT((noisy[i].final_m - perfect[i].final_m).cwiseAbs().maxCoeff(), kSameSlot_m);

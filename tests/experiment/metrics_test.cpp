@@ -1,13 +1,19 @@
-// The metric table drives trials.csv, summary.csv and the exact records: these tests hold it to
-// the documented columns and to TrialRecord's fields, written out here independently.
+// The metric tables drive trials.csv, summary.csv, the exact records and the reports' look-ups:
+// these tests hold them to the documented columns, units and TrialRecord's fields, written out
+// here independently, and check that an extension record cannot leave a declared metric unset.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
+#include "losmimo/common/ini_config.h"
+#include "losmimo/experiment/channel_sweeps.h"
 #include "losmimo/experiment/csv.h"
+#include "losmimo/experiment/engine.h"
+#include "losmimo/experiment/extension.h"
 #include "losmimo/experiment/metrics.h"
 #include "losmimo/experiment/records.h"
 #include "losmimo/experiment/summary.h"
@@ -61,6 +67,141 @@ TEST(MetricTable, EveryEntry_ReadsAndWritesTheFieldOfItsName) {
     EXPECT_TRUE(values.insert(value).second) << name << " shares its field with another metric";
   }
   EXPECT_TRUE(r.converged);
+}
+
+TEST(MetricTable, Handles_NameTheirEntriesWithTheirUnits) {
+  const std::tuple<MetricId, const char*, const char*> expected[] = {
+      {metrics::kIterations, "iterations", "iterations"},
+      {metrics::kConverged, "converged", ""},
+      {metrics::kFinalIcn, "final_icn", ""},
+      {metrics::kDistToIcn050M, "dist_to_icn050_m", "m"},
+      {metrics::kDistToIcn095M, "dist_to_icn095_m", "m"},
+      {metrics::kDistTotalM, "dist_total_m", "m"},
+      {metrics::kProbeDistM, "probe_dist_m", "m"},
+      {metrics::kSinrNvDb, "sinr_nv_db", "dB"},
+      {metrics::kSinrZfDb, "sinr_zf_db", "dB"},
+      {metrics::kSinrMfDb, "sinr_mf_db", "dB"},
+      {metrics::kSumRateNvBpsHz, "sum_rate_nv_bps_hz", "bit/s/Hz"},
+      {metrics::kSumRateZfBpsHz, "sum_rate_zf_bps_hz", "bit/s/Hz"},
+      {metrics::kMeanSinrNvDb, "mean_sinr_nv_db", "dB"},
+      {metrics::kMeanSinrZfDb, "mean_sinr_zf_db", "dB"},
+      {metrics::kMeanSinrMfDb, "mean_sinr_mf_db", "dB"},
+      {metrics::kDistPlacementM, "dist_placement_m", "m"}};
+  ASSERT_EQ(std::size(expected), kMetrics.size());
+  for (const auto& [id, name, unit] : expected) {
+    const Metric* m = find_metric(id);
+    ASSERT_NE(m, nullptr) << name;
+    EXPECT_STREQ(m->name, name);
+    EXPECT_STREQ(m->unit, unit) << name;
+  }
+  EXPECT_EQ(find_metric(MetricId{"sinr_nv"}), nullptr);
+}
+
+// An extension table's (name, unit) pairs in order.
+std::vector<std::pair<std::string, std::string>> names_and_units(const ExtensionMetrics& table) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const ExtensionMetric& m : table) {
+    out.emplace_back(m.name, m.unit);
+    EXPECT_GT(std::string(m.doc).size(), 10u) << m.name << ": document it";
+  }
+  return out;
+}
+
+TEST(ExtensionMetricTable, ChannelSweepsAndMilestones_AreTheDocumentedColumns) {
+  using Columns = std::vector<std::pair<std::string, std::string>>;
+  EXPECT_EQ(names_and_units(channel_sweep_metrics()),
+            (Columns{{"final_icn_los", ""}, {"final_icn_measured", ""}, {"sum_rate_nv_los_bps_hz", "bit/s/Hz"},
+                     {"sum_rate_zf_los_bps_hz", "bit/s/Hz"}}));
+  EXPECT_EQ(names_and_units(milestone_metrics()),
+            (Columns{{"iterations_to_icn050", "iterations"}, {"iterations_to_icn095", "iterations"}}));
+  // AND the extra columns of a run with a channel sweep and the milestones: the extension's, then the milestones
+  common::IniConfig config;
+  config.set_override("experiment.sweeps=sigma_loc_m, rician_k_db");
+  config.set_override("experiment.milestone_columns=true");
+  const ExperimentSettings s = load_experiment_settings(config, channel_sweep_extensions());
+  EXPECT_EQ(extra_metric_names(s, channel_sweep_extensions()),
+            (std::vector<std::string>{"final_icn_los", "final_icn_measured", "sum_rate_nv_los_bps_hz",
+                                      "sum_rate_zf_los_bps_hz", "iterations_to_icn050", "iterations_to_icn095"}));
+}
+
+// A record of a channel sweep with every metric of channel_sweep_metrics() set but `skip`.
+TrialRecord channel_record(const char* skip) {
+  TrialRecord r;
+  r.sweep = kSweepRicianK;
+  r.algorithm = "gd";
+  r.trial = 3;
+  double v = 1.0;
+  for (const ExtensionMetric& m : channel_sweep_metrics()) {
+    if (std::string(m.name) != skip) r.extension.set(m, v++);
+  }
+  return r;
+}
+
+TEST(ExtensionMetricTable, RecordLeavingADeclaredMetricUnset_IsRefusedNamingIt) {
+  // GIVEN a record that sets three of the four metrics
+  TrialRecord r = channel_record("sum_rate_zf_los_bps_hz");
+  try {
+    extension_columns(r, channel_sweep_metrics());
+    FAIL() << "accepted";
+  } catch (const std::logic_error& e) {
+    // THEN the refusal names the metric and the record
+    EXPECT_NE(std::string(e.what()).find("leaves sum_rate_zf_los_bps_hz unset"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("rician_k_db record of gd (trial 3)"), std::string::npos) << e.what();
+  }
+  // AND NaN is a value, not "unset": the columns in table order
+  r.extension.set(kSumRateZfLosBpsHz, std::nan(""));
+  const std::vector<double> columns = extension_columns(r, channel_sweep_metrics());
+  ASSERT_EQ(columns.size(), 4u);
+  EXPECT_EQ(columns[0], 1.0);
+  EXPECT_EQ(columns[2], 3.0);
+  EXPECT_TRUE(std::isnan(columns[3]));
+  EXPECT_EQ(r.extension.at(kFinalIcnMeasured), 2.0);
+  EXPECT_THROW(channel_record("final_icn_los").extension.at(kFinalIcnLos), std::out_of_range);
+  // AND a metric the table does not declare is refused too
+  r.extension.set(metrics::kIterationsToIcn050, 4.0);
+  EXPECT_THROW(extension_columns(r, channel_sweep_metrics()), std::logic_error);
+}
+
+TEST(ExtensionMetricTable, EngineRefusesARecordLeavingADeclaredMetricUnset) {
+  // GIVEN an extension declaring two metrics whose records set only the first
+  static constexpr ExtensionMetric kSet{{"set_m"}, "m", "a metric every record sets"};
+  static constexpr ExtensionMetric kForgotten{{"forgotten_m"}, "m", "a metric the records leave unset"};
+  ExperimentExtension e;
+  e.sweep = "forgetful";
+  e.metrics = {kSet, kForgotten};
+  e.load_values = [](const ExperimentSettings&) { return std::vector<double>{0.0}; };
+  e.run = [](const ExperimentSettings&, int, int trial) {
+    TrialRecord r;
+    r.sweep = "forgetful";
+    r.algorithm = "gd";
+    r.trial = trial;
+    r.extension.set(kSet, std::nan(""));
+    return std::vector<TrialRecord>{r};
+  };
+  common::IniConfig config;
+  config.set_override("experiment.sweeps=forgetful");
+  config.set_override("experiment.trials=1");
+  const ExperimentSettings s = load_experiment_settings(config, {e});
+  // WHEN it runs THEN the engine refuses the record, naming the metric
+  try {
+    run_experiment(s, {e}, 1);
+    FAIL() << "accepted";
+  } catch (const std::logic_error& error) {
+    EXPECT_NE(std::string(error.what()).find("leaves forgotten_m unset"), std::string::npos) << error.what();
+  }
+  // AND once every metric is set it runs, the columns in table order
+  e.run = [](const ExperimentSettings&, int, int trial) {
+    TrialRecord r;
+    r.sweep = "forgetful";
+    r.algorithm = "gd";
+    r.trial = trial;
+    r.extension.set(kForgotten, 2.0);
+    r.extension.set(kSet, 1.0);
+    return std::vector<TrialRecord>{r};
+  };
+  const ExperimentResults results = run_experiment(s, {e}, 1);
+  ASSERT_EQ(results.records.size(), 1u);
+  EXPECT_EQ(results.records[0].extra, (std::vector<double>{1.0, 2.0}));
 }
 
 TEST(MetricTable, ExactRecords_ReadBackEveryFieldBitForBit) {

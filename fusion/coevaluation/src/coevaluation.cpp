@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <initializer_list>
 #include <limits>
 #include <map>
 #include <memory>
@@ -55,11 +56,16 @@ localization::FilterConfig filter_config(const CoevaluationSettings& c, const lo
   return f;
 }
 
-// The extra metrics in coevaluation_extra_metrics()'s order; the paired differences are
-// gd_gauss_matched's alone.
-std::vector<double> extras(double rmse, double lateral, double nees, double fallback, double beacon_lateral,
-                           double paired_travel_m = kNaN, double paired_iterations = kNaN) {
-  return {rmse, lateral, nees, fallback, beacon_lateral, paired_travel_m, paired_iterations};
+// Sets the metrics (coevaluation_metrics()) that a record's algorithm has no value for: NaN.
+void not_applicable(experiment::TrialRecord& r, std::initializer_list<experiment::MetricId> metrics) {
+  for (const experiment::MetricId m : metrics) r.extension.set(m, kNaN);
+}
+
+// The metrics of a run that placed from the Gaussian model's positions, sigma_loc_m per axis.
+void set_gaussian_metrics(experiment::TrialRecord& r, double sigma_loc_m) {
+  r.extension.set(kLocRmse, std::sqrt(3.0) * sigma_loc_m);
+  r.extension.set(kLocLateralRmse, std::sqrt(2.0) * sigma_loc_m);
+  not_applicable(r, {kNees, kBfFallbackFraction, kBeaconLateralRmse});
 }
 
 double fallback_fraction(const fusion::ClosedLoopStats& s, int iterations) {
@@ -74,9 +80,12 @@ experiment::TrialRecord closed_loop_record(const experiment::ExperimentSettings&
   const fusion::ClosedLoopRun r = fusion::run_closed_loop(s.placement, experiment::trial_start_positions_m(s, trial), config,
                                           experiment::trial_seed(s, sweep, point, trial));
   experiment::TrialRecord rec = experiment::make_record(s, sweep, point, trial, to_string(a), r.run);
-  rec.extra = extras(r.stats.rmse_m, r.stats.lateral_rmse_m, r.stats.average_nees,
-                     fallback_fraction(r.stats, r.run.iterations),
-                     r.stats.num_beacons > 0 ? r.stats.beacon_only_lateral_rmse_m : kNaN);
+  rec.extension.set(kLocRmse, r.stats.rmse_m);
+  rec.extension.set(kLocLateralRmse, r.stats.lateral_rmse_m);
+  rec.extension.set(kNees, r.stats.average_nees);
+  rec.extension.set(kBfFallbackFraction, fallback_fraction(r.stats, r.run.iterations));
+  rec.extension.set(kBeaconLateralRmse, r.stats.num_beacons > 0 ? r.stats.beacon_only_lateral_rmse_m : kNaN);
+  not_applicable(rec, {kPairedTravelDiff, kPairedIterationsDiff});
   return rec;
 }
 
@@ -113,9 +122,13 @@ class EkfPositionSource {
     return est.belief.mean_m;
   }
 
-  std::vector<double> extra() const {
-    return extras(errors_.rmse_m(), errors_.lateral_rmse_m(), errors_.average_nees(), kNaN,
-                  beacon_only_errors_.lateral_rmse_m());
+  // The statistics of the estimates given so far (coevaluation_metrics()).
+  void set_metrics(experiment::TrialRecord& r) const {
+    r.extension.set(kLocRmse, errors_.rmse_m());
+    r.extension.set(kLocLateralRmse, errors_.lateral_rmse_m());
+    r.extension.set(kNees, errors_.average_nees());
+    r.extension.set(kBeaconLateralRmse, beacon_only_errors_.lateral_rmse_m());
+    not_applicable(r, {kBfFallbackFraction, kPairedTravelDiff, kPairedIterationsDiff});
   }
 
  private:
@@ -225,9 +238,10 @@ std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::Ex
 
   std::vector<experiment::TrialRecord> records;
   for (const CoevalAlgorithm a : c.algorithms) {
-    const auto record = [&](const placement::RunResult& run, std::vector<double> extra) {
+    // The record of `run`; the caller sets its metrics.
+    const auto record = [&](const placement::RunResult& run) -> experiment::TrialRecord& {
       records.push_back(experiment::make_record(s, kSweepBeaconNoise, point, trial, to_string(a), run));
-      records.back().extra = std::move(extra);
+      return records.back();
     };
     // Every algorithm but gd_gauss places from true positions or from its own estimates.
     placement::PlacementSettings p = s.placement;
@@ -236,8 +250,10 @@ std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::Ex
       case CoevalAlgorithm::kGdGauss: {
         // The experiment's GD (one engine): its planner, stop rule and Gaussian localization.
         p.errors.sigma_loc_m = v;
-        record(experiment::run_algorithm(s, p, experiment::Algorithm::kGd, trial, start, seed, s.placement.run),
-               extras(std::sqrt(3.0) * v, std::sqrt(2.0) * v, kNaN, kNaN, kNaN));
+        experiment::TrialRecord& r =
+            record(experiment::run_algorithm(s, p, experiment::Algorithm::kGd, trial, start, seed, s.placement.run));
+        set_gaussian_metrics(r, v);
+        not_applicable(r, {kPairedTravelDiff, kPairedIterationsDiff});
         break;
       }
       case CoevalAlgorithm::kGdGaussMatched: {
@@ -245,19 +261,20 @@ std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::Ex
           return closed_loop_record(s, kSweepBeaconNoise, point, trial, CoevalAlgorithm::kGdEkf,
                                     coevaluation_closed_loop_config(c, scenario, CoevalAlgorithm::kGdEkf, v));
         });
-        p.errors.sigma_loc_m = ekf.extra.at(1) / std::sqrt(2.0);  // the same lateral RMSE as gd_ekf's
-        const placement::RunResult run =
-            experiment::run_algorithm(s, p, experiment::Algorithm::kGd, trial, start, seed, s.placement.run);
-        record(run, {});
-        const experiment::TrialRecord& own = records.back();
-        records.back().extra = extras(std::sqrt(3.0) * p.errors.sigma_loc_m, std::sqrt(2.0) * p.errors.sigma_loc_m,
-                                      kNaN, kNaN, kNaN, ekf.dist_to_icn095_m - own.dist_to_icn095_m,
-                                      static_cast<double>(ekf.iterations - own.iterations));
+        // The same lateral RMSE as gd_ekf's.
+        p.errors.sigma_loc_m = ekf.extension.at(kLocLateralRmse) / std::sqrt(2.0);
+        experiment::TrialRecord& own =
+            record(experiment::run_algorithm(s, p, experiment::Algorithm::kGd, trial, start, seed, s.placement.run));
+        set_gaussian_metrics(own, p.errors.sigma_loc_m);
+        own.extension.set(kPairedTravelDiff, ekf.dist_to_icn095_m - own.dist_to_icn095_m);
+        own.extension.set(kPairedIterationsDiff, static_cast<double>(ekf.iterations - own.iterations));
         break;
       }
       case CoevalAlgorithm::kBf: {
-        record(experiment::run_algorithm(s, p, experiment::Algorithm::kBf, trial, start, seed, s.placement.run),
-               extras(kNaN, kNaN, kNaN, kNaN, kNaN));
+        not_applicable(
+            record(experiment::run_algorithm(s, p, experiment::Algorithm::kBf, trial, start, seed, s.placement.run)),
+            {kLocRmse, kLocLateralRmse, kNees, kBfFallbackFraction, kBeaconLateralRmse, kPairedTravelDiff,
+             kPairedIterationsDiff});
         break;
       }
       case CoevalAlgorithm::kUraEkf: {
@@ -269,7 +286,7 @@ std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::Ex
         const std::unique_ptr<placement::Planner> planner = experiment::make_planner(p, ura);
         const placement::RunResult run =
             placement::run_placement(*planner, swarm, experiment::run_options_of(p, ura, s.placement.run));
-        record(run, source.extra());  // after the run: the source's statistics are the run's
+        source.set_metrics(record(run));  // after the run: the source's statistics are the run's
         break;
       }
       case CoevalAlgorithm::kCentralized: {
@@ -280,7 +297,9 @@ std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::Ex
                                 std::to_string(experiment::trial_start_seed(s, trial));
         const std::shared_ptr<const fusion::CentralizedResult> solution =
             cache ? cache->get(key, solve) : std::make_shared<const fusion::CentralizedResult>(solve());
-        record(centralized_run(scenario, start, *solution), extras(kNaN, kNaN, kNaN, kNaN, kNaN));
+        not_applicable(record(centralized_run(scenario, start, *solution)),
+                       {kLocRmse, kLocLateralRmse, kNees, kBfFallbackFraction, kBeaconLateralRmse, kPairedTravelDiff,
+                        kPairedIterationsDiff});
         break;
       }
       default:
@@ -313,7 +332,7 @@ experiment::ExperimentExtension beacon_noise_extension() {
   experiment::ExperimentExtension e;
   e.sweep = kSweepBeaconNoise;
   e.config_keys = coevaluation_config_keys();
-  e.extra_metrics = coevaluation_extra_metrics();
+  e.metrics = coevaluation_metrics();
   e.load_values = [](const experiment::ExperimentSettings& s) { return load_coevaluation_settings(s).beacon_noise_values_m; };
   e.run = [cache](const experiment::ExperimentSettings& s, int point, int trial) {
     return run_beacon_noise_trial(s, point, trial, cache.get());
@@ -327,7 +346,7 @@ experiment::ExperimentExtension beacon_outage_extension() {
   experiment::ExperimentExtension e;
   e.sweep = kSweepBeaconOutage;
   e.config_keys = coevaluation_config_keys();
-  e.extra_metrics = coevaluation_extra_metrics();
+  e.metrics = coevaluation_metrics();
   e.load_values = [](const experiment::ExperimentSettings& s) {
     const std::vector<int> k = load_coevaluation_settings(s).outage_values;
     return std::vector<double>(k.begin(), k.end());

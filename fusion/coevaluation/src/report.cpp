@@ -19,7 +19,12 @@ namespace {
 
 namespace fs = std::filesystem;
 using experiment::Estimate;
+using experiment::MetricId;
 using experiment::SummaryRow;
+namespace metrics = experiment::metrics;
+
+// A dat() column that is the row's own field, not a metric.
+constexpr MetricId kConvergedFraction{"converged_fraction"};
 
 // The paper's GD at sigma_loc 0 and 0.18 m (Fig 2b, read off the plot to ~0.5 dB).
 constexpr double kPaperGdNv0_db = 20.5;
@@ -66,20 +71,20 @@ std::string converged(const SummaryRow& r) {
 }
 
 // One gnuplot data block per algorithm: value, then mean and ci95 of each metric
-// ("converged_fraction" is the row's own field, with ci 0).
+// (kConvergedFraction is the row's own field, with ci 0).
 std::string dat(const std::vector<SummaryRow>& rows, const std::string& sweep, const std::vector<std::string>& algorithms,
-                const std::vector<std::string>& metrics) {
+                const std::vector<MetricId>& columns) {
   std::ostringstream o;
   o.precision(10);
   for (const std::string& a : algorithms) {
     o << "# algorithm " << a << ": value";
-    for (const std::string& m : metrics) o << " " << m << "_mean " << m << "_ci95";
+    for (const MetricId m : columns) o << " " << m.name << "_mean " << m.name << "_ci95";
     o << "\n";
     for (const SummaryRow& r : rows) {
       if (r.sweep != sweep || r.algorithm != a) continue;
       o << r.value;
-      for (const std::string& m : metrics) {
-        if (m == "converged_fraction") {
+      for (const MetricId m : columns) {
+        if (m == kConvergedFraction) {
           o << " " << r.converged_fraction << " 0";
           continue;
         }
@@ -131,7 +136,7 @@ std::vector<std::string> write_beacon_noise_figures(const experiment::Experiment
   const std::string xlabel = "set xlabel 'beacon-only cross-range error per axis at R [m]'\n";
 
   common::write_file_atomically((dir / "coeval_sinr.dat").string(),
-                                   dat(rows, kSweepBeaconNoise, algorithms, {"sinr_nv_db", "sinr_zf_db"}));
+                                   dat(rows, kSweepBeaconNoise, algorithms, {metrics::kSinrNvDb, metrics::kSinrZfDb}));
   common::write_file_atomically(
       (dir / "coeval_sinr.gp").string(),
       gp_header("coeval_sinr.png") + "set title 'Final SINR of stream 1 (NV solid, ZF dotted)'\n" + xlabel +
@@ -139,7 +144,7 @@ std::vector<std::string> write_beacon_noise_figures(const experiment::Experiment
 
   // Every algorithm moves (centralized's milestones are along its straight flight).
   common::write_file_atomically((dir / "coeval_travel.dat").string(),
-                                   dat(rows, kSweepBeaconNoise, algorithms, {"dist_to_icn050_m", "dist_to_icn095_m"}));
+                                   dat(rows, kSweepBeaconNoise, algorithms, {metrics::kDistToIcn050M, metrics::kDistToIcn095M}));
   common::write_file_atomically(
       (dir / "coeval_travel.gp").string(),
       gp_header("coeval_travel.png") + "set title 'Mean distance per UAV to ICN 0.5 (solid) and 0.95 (dotted)'\n" +
@@ -155,7 +160,7 @@ std::vector<std::string> write_beacon_noise_figures(const experiment::Experiment
   if (estimators.empty()) return render(s, dir, {"coeval_sinr", "coeval_travel"});
   common::write_file_atomically(
       (dir / "coeval_rmse.dat").string(),
-      dat(rows, kSweepBeaconNoise, estimators, {"loc_lateral_rmse_m", "loc_rmse_m", "nees", "beacon_lateral_rmse_m"}));
+      dat(rows, kSweepBeaconNoise, estimators, {kLocLateralRmse, kLocRmse, kNees, kBeaconLateralRmse}));
   std::ostringstream g;
   g << gp_header("coeval_rmse.png", 1400, 600) << "set multiplot layout 1,2\n"
     << xlabel << "set title 'Localization RMSE (lateral solid, 3-D dotted)'\nset ylabel 'RMSE [m]'\nset key inside top left\n"
@@ -199,12 +204,12 @@ std::string matched_error_section(const std::vector<SummaryRow>& rows, const std
     const SummaryRow* a = find_row(rows, kSweepBeaconNoise, v, ekf);
     const SummaryRow* b = find_row(rows, kSweepBeaconNoise, v, gauss);
     if (!a || !b) continue;
-    const Estimate* travel = b->metric("paired_travel_diff_m");
-    const Estimate* sigma = b->metric("loc_lateral_rmse_m");
+    const Estimate* travel = b->metric(kPairedTravelDiff);
+    const Estimate* sigma = b->metric(kLocLateralRmse);
     md << "| " << fmt(v, 3) << " | " << (sigma && sigma->n > 0 ? fmt(sigma->mean / std::sqrt(2.0), 4) : "n/a") << " | "
-       << converged(*a) << " / " << converged(*b) << " | " << fmt_estimate(a->metric("dist_to_icn095_m")) << " | "
-       << fmt_estimate(b->metric("dist_to_icn095_m")) << " | " << fmt_estimate(travel) << " | "
-       << fmt_estimate(b->metric("paired_iterations_diff"), 1) << " | ";
+       << converged(*a) << " / " << converged(*b) << " | " << fmt_estimate(a->metric(metrics::kDistToIcn095M)) << " | "
+       << fmt_estimate(b->metric(metrics::kDistToIcn095M)) << " | " << fmt_estimate(travel) << " | "
+       << fmt_estimate(b->metric(kPairedIterationsDiff), 1) << " | ";
     if (!travel || travel->n < 2 || !std::isfinite(travel->ci95)) {
       md << "not evaluated (fewer than 2 paired trials)";
     } else if (travel->mean + travel->ci95 < 0.0) {
@@ -249,11 +254,11 @@ std::string beacon_noise_report_section(const experiment::ExperimentSettings& s,
       const SummaryRow* r = find_row(rows, kSweepBeaconNoise, v, a);
       if (!r) continue;
       md << "| " << a << " | " << fmt(v, 3) << " | " << converged(*r) << " | "
-         << fmt_estimate(r->metric("dist_to_icn050_m")) << " | " << fmt_estimate(r->metric("dist_to_icn095_m"))
-         << " | " << fmt_estimate(r->metric("sinr_nv_db")) << " | " << fmt_estimate(r->metric("sinr_zf_db")) << " | "
-         << fmt_estimate(r->metric("sinr_mf_db")) << " | " << fmt_estimate(r->metric("loc_lateral_rmse_m"), 3) << " | "
-         << fmt_estimate(r->metric("loc_rmse_m"), 3) << " | " << fmt_estimate(r->metric("nees")) << " | "
-         << fmt_estimate(r->metric("bf_fallback_fraction"), 3) << " |\n";
+         << fmt_estimate(r->metric(metrics::kDistToIcn050M)) << " | " << fmt_estimate(r->metric(metrics::kDistToIcn095M))
+         << " | " << fmt_estimate(r->metric(metrics::kSinrNvDb)) << " | " << fmt_estimate(r->metric(metrics::kSinrZfDb)) << " | "
+         << fmt_estimate(r->metric(metrics::kSinrMfDb)) << " | " << fmt_estimate(r->metric(kLocLateralRmse), 3) << " | "
+         << fmt_estimate(r->metric(kLocRmse), 3) << " | " << fmt_estimate(r->metric(kNees)) << " | "
+         << fmt_estimate(r->metric(kBfFallbackFraction), 3) << " |\n";
     }
   }
 
@@ -264,8 +269,8 @@ std::string beacon_noise_report_section(const experiment::ExperimentSettings& s,
   const auto loss_of = [&](const std::string& a, double* loss, double* ci) {
     const SummaryRow* r0 = find_row(rows, kSweepBeaconNoise, v0, a);
     const SummaryRow* r1 = find_row(rows, kSweepBeaconNoise, vmax, a);
-    const Estimate* e0 = r0 ? r0->metric("sinr_nv_db") : nullptr;
-    const Estimate* e1 = r1 ? r1->metric("sinr_nv_db") : nullptr;
+    const Estimate* e0 = r0 ? r0->metric(metrics::kSinrNvDb) : nullptr;
+    const Estimate* e1 = r1 ? r1->metric(metrics::kSinrNvDb) : nullptr;
     if (!e0 || !e1 || e0->n == 0 || e1->n == 0) return false;
     *loss = e0->mean - e1->mean;
     const double c0 = std::isfinite(e0->ci95) ? e0->ci95 : 0.0, c1 = std::isfinite(e1->ci95) ? e1->ci95 : 0.0;
@@ -325,7 +330,7 @@ std::vector<std::string> write_outage_figures(const experiment::ExperimentSettin
   common::write_file_atomically(
       (dir / "outage.dat").string(),
       dat(rows, kSweepBeaconOutage, algorithms,
-          {"converged_fraction", "dist_to_icn095_m", "dist_total_m", "bf_fallback_fraction", "iterations"}));
+          {kConvergedFraction, metrics::kDistToIcn095M, metrics::kDistTotalM, kBfFallbackFraction, metrics::kIterations}));
   std::ostringstream g;
   g << gp_header("outage.png", 1500, 500) << "set multiplot layout 1,3\nset xlabel 'UAVs without beacon'\nset offsets 0.3, 0.3, 0, 0\n"
     << "set key inside bottom left\nset title 'Converged fraction'\nset yrange [0:1.05]\nplot ";
@@ -370,9 +375,9 @@ std::string outage_report_section(const experiment::ExperimentSettings& s, const
       const SummaryRow* r = find_row(rows, kSweepBeaconOutage, k, a);
       if (!r) continue;
       md << "| " << fmt(k, 0) << " | " << a << " | " << converged(*r) << " | "
-         << fmt_estimate(r->metric("iterations"), 0) << " | " << fmt_estimate(r->metric("dist_to_icn095_m")) << " | "
-         << fmt_estimate(r->metric("dist_total_m")) << " | " << fmt_estimate(r->metric("bf_fallback_fraction"), 3)
-         << " | " << fmt_estimate(r->metric("sinr_nv_db")) << " | " << fmt_estimate(r->metric("loc_rmse_m"), 3) << " |\n";
+         << fmt_estimate(r->metric(metrics::kIterations), 0) << " | " << fmt_estimate(r->metric(metrics::kDistToIcn095M)) << " | "
+         << fmt_estimate(r->metric(metrics::kDistTotalM)) << " | " << fmt_estimate(r->metric(kBfFallbackFraction), 3)
+         << " | " << fmt_estimate(r->metric(metrics::kSinrNvDb)) << " | " << fmt_estimate(r->metric(kLocRmse), 3) << " |\n";
     }
   }
   const double kmax = *std::max_element(values.begin(), values.end());

@@ -180,12 +180,11 @@ CoevaluationSettings load_coevaluation_settings(const experiment::ExperimentSett
 
 std::string to_ini(const CoevaluationSettings& c) { return coevaluation_keys().to_ini(c); }
 
-const std::vector<std::string>& coevaluation_extra_metrics() {
-  static const std::vector<std::string> kNames = {"loc_rmse_m",          "loc_lateral_rmse_m",
-                                                  "nees",                "bf_fallback_fraction",
-                                                  "beacon_lateral_rmse_m", "paired_travel_diff_m",
-                                                  "paired_iterations_diff"};
-  return kNames;
+const experiment::ExtensionMetrics& coevaluation_metrics() {
+  static const experiment::ExtensionMetrics kTable = {kLocRmse,           kLocLateralRmse,   kNees,
+                                                      kBfFallbackFraction, kBeaconLateralRmse, kPairedTravelDiff,
+                                                      kPairedIterationsDiff};
+  return kTable;
 }
 
 }  // namespace losmimo::coevaluation

@@ -8,6 +8,7 @@
 #include "losmimo/common/format.h"
 #include "losmimo/common/gnuplot.h"
 #include "losmimo/experiment/channel_sweeps.h"
+#include "losmimo/experiment/metrics.h"
 #include "losmimo/experiment/report.h"
 #include "losmimo/placement/channel_conditions.h"
 
@@ -33,7 +34,7 @@ const SummaryRow* find_row(const std::vector<SummaryRow>& rows, const std::strin
 
 // The mean of a metric at (sweep, value, algorithm), NaN if absent.
 double mean(const std::vector<SummaryRow>& rows, const std::string& sweep, double value, const std::string& algorithm,
-            const std::string& metric) {
+            MetricId metric) {
   const SummaryRow* r = find_row(rows, sweep, value, algorithm);
   const Estimate* e = r ? r->metric(metric) : nullptr;
   return e ? e->mean : std::nan("");
@@ -117,7 +118,8 @@ std::string rician_claims(const ExperimentSettings& s, const std::vector<Summary
     return o.str() + "- No finite K-factor (or no `random` baseline) in this run: no verdict.\n";
   }
   const double k_lo = *std::min_element(finite.begin(), finite.end());
-  const std::string S = kSweepRicianK, zf = "sum_rate_zf_bps_hz";
+  const std::string S = kSweepRicianK;
+  const MetricId zf = metrics::kSumRateZfBpsHz;
   int held = 0, points = 0;
   for (const double k : finite) {
     bool all = true;
@@ -148,13 +150,13 @@ std::string rician_claims(const ExperimentSettings& s, const std::vector<Summary
       << per_mover(s, [&](const std::string& a) {
            const SummaryRow* r = find_row(rows, S, k_lo, a);
            return "converged in " + fmt(100.0 * r->converged_fraction, 0) + "% of runs and flew " +
-                  fmt(mean(rows, S, k_lo, a, "dist_total_m")) + " m per UAV";
+                  fmt(mean(rows, S, k_lo, a, metrics::kDistTotalM)) + " m per UAV";
          })
       << " (at K = inf: "
-      << per_mover(s, [&](const std::string& a) { return fmt(mean(rows, S, kInf, a, "dist_total_m")) + " m"; })
+      << per_mover(s, [&](const std::string& a) { return fmt(mean(rows, S, kInf, a, metrics::kDistTotalM)) + " m"; })
       << "). The stop test reads measured CSI, whose ICN stays below the target under strong scatter, so runs "
          "go on to the iteration cap: the translation is bounded by the cap, not by convergence. "
-      << (mean(rows, S, k_lo, "gd", "dist_total_m") > 2.0 * mean(rows, S, kInf, "gd", "dist_total_m")
+      << (mean(rows, S, k_lo, "gd", metrics::kDistTotalM) > 2.0 * mean(rows, S, kInf, "gd", metrics::kDistTotalM)
               ? "**Contradicts** a bounded translation unless the stop rule accounts for the scatter (docs/model.md)."
               : "**Supports** it here.")
       << "\n";
@@ -175,7 +177,8 @@ std::string csi_claims(const ExperimentSettings& s, const std::vector<SummaryRow
     return o.str() + "- The sweep needs inf (perfect CSI) and a finite SNR for a verdict.\n";
   }
   std::sort(finite.begin(), finite.end());
-  const std::string S = kSweepCsiSnr, zf = "sum_rate_zf_bps_hz";
+  const std::string S = kSweepCsiSnr;
+  const MetricId zf = metrics::kSumRateZfBpsHz;
   // The lowest SNR at and above which GD and BF keep kCloseToUra of their perfect-CSI ZF rate.
   double robust_from = kInf;
   for (auto it = finite.rbegin(); it != finite.rend(); ++it) {
@@ -203,7 +206,8 @@ std::string bs_claims(const ExperimentSettings& s, const std::vector<SummaryRow>
   const SweepPoints& p = *s.sweep(kSweepBsAntennas);
   std::ostringstream o;
   o << claims_header();
-  const std::string S = kSweepBsAntennas, zf = "sum_rate_zf_bps_hz", nv = "sum_rate_nv_bps_hz";
+  const std::string S = kSweepBsAntennas;
+  const MetricId zf = metrics::kSumRateZfBpsHz, nv = metrics::kSumRateNvBpsHz;
   const bool ura = runs(s, Algorithm::kUra), random = runs(s, Algorithm::kRandom);
   if (ura && random) {
     o << "- C1, \"LoS makes the channel highly correlated, which limits the multiplexing gain of random placement\": "
@@ -228,7 +232,7 @@ std::string bs_claims(const ExperimentSettings& s, const std::vector<SummaryRow>
     std::string parts;
     for (const double v : p.values) {
       for (const std::string a : {"ura", "ura_lattice"}) {
-        const double icn = mean(rows, S, v, a, "final_icn_los");
+        const double icn = mean(rows, S, v, a, kFinalIcnLos);
         if (std::isfinite(icn)) parts += (parts.empty() ? "" : ", ") + a + " " + fmt(icn, 3) + " at " + value_label(S, v);
       }
     }
@@ -238,7 +242,7 @@ std::string bs_claims(const ExperimentSettings& s, const std::vector<SummaryRow>
   }
   if (random) {
     const double big = *std::max_element(p.values.begin(), p.values.end());
-    const auto gain = [&](const std::string& a, const std::string& m) {
+    const auto gain = [&](const std::string& a, MetricId m) {
       return mean(rows, S, big, a, m) / mean(rows, S, big, "random", m);
     };
     bool zf_holds = true, nv_holds = true;
@@ -259,7 +263,7 @@ std::string bs_claims(const ExperimentSettings& s, const std::vector<SummaryRow>
     o << "- C3, \"a significant capacity increase at the cost of a bounded translation\": total distance per UAV "
       << per_mover(s, [&](const std::string& a) {
            std::string d;
-           for (const double v : p.values) d += (d.empty() ? "" : " / ") + fmt(mean(rows, S, v, a, "dist_total_m"), 1);
+           for (const double v : p.values) d += (d.empty() ? "" : " / ") + fmt(mean(rows, S, v, a, metrics::kDistTotalM), 1);
            return d + " m";
          })
       << " at " << [&] {
@@ -280,17 +284,17 @@ std::vector<std::string> write_channel_sweep_figure(const ExperimentSettings& s,
   const SweepPoints* p = s.sweep(sweep);
   if (!p) return {};
   const fs::path dir(out_dir);
-  const std::vector<std::string> metrics = {"sum_rate_zf_bps_hz", "sum_rate_nv_bps_hz", "final_icn_los", "dist_total_m"};
+  const std::vector<MetricId> plotted = {metrics::kSumRateZfBpsHz, metrics::kSumRateNvBpsHz, kFinalIcnLos, metrics::kDistTotalM};
   std::ostringstream dat;
   for (const Algorithm a : s.algorithms) {
     dat << "# algorithm " << to_string(a) << ": x";
-    for (const std::string& m : metrics) dat << " " << m << "_mean " << m << "_ci95";
+    for (const MetricId m : plotted) dat << " " << m.name << "_mean " << m.name << "_ci95";
     dat << " converged_fraction\n";
     for (const double v : p->values) {
       const SummaryRow* r = find_row(rows, sweep, v, to_string(a));
       if (!r) continue;
       dat << common::format_g(plotted_x(p->values, v), common::kCsvDigits);
-      for (const std::string& m : metrics) {
+      for (const MetricId m : plotted) {
         const Estimate* e = r->metric(m);
         dat << " " << common::format_g(e && std::isfinite(e->mean) ? e->mean : std::nan(""), common::kCsvDigits) << " "
             << common::format_g(e && std::isfinite(e->ci95) ? e->ci95 : 0.0, common::kCsvDigits);
@@ -314,7 +318,7 @@ std::vector<std::string> write_channel_sweep_figure(const ExperimentSettings& s,
     << " UAVs (means and 95% CI over " << s.trials << " trials)' noenhanced\n";
   const char* const titles[] = {"ergodic ZF sum rate [bit/s/Hz]", "ergodic NV sum rate [bit/s/Hz]",
                                 "LoS ICN at the final positions", "distance flown per UAV [m]"};
-  for (std::size_t m = 0; m < metrics.size(); ++m) {
+  for (std::size_t m = 0; m < plotted.size(); ++m) {
     g << "set title '" << titles[m] << "'\nset ylabel ''\n" << (m == 2 ? "set yrange [0:1.05]\n" : "set autoscale y\n")
       << "plot ";
     for (std::size_t i = 0; i < s.algorithms.size(); ++i) {
@@ -351,14 +355,14 @@ std::string channel_sweep_report_section(const ExperimentSettings& s, const std:
     for (const Algorithm a : s.algorithms) {
       const SummaryRow* r = find_row(rows, sweep, v, to_string(a));
       if (!r) continue;
-      const auto cell = [&](const std::string& m, int decimals) {
+      const auto cell = [&](MetricId m, int decimals) {
         const Estimate* e = r->metric(m);
         if (!e || e->n == 0) return std::string("n/a");
         return fmt(e->mean, decimals) + (std::isfinite(e->ci95) ? " ± " + fmt(e->ci95, decimals) : "");
       };
-      md << "| " << value_label(sweep, v) << " | " << to_string(a) << " | " << cell("sum_rate_zf_bps_hz", 1) << " | "
-         << cell("sum_rate_nv_bps_hz", 1) << " | " << cell("final_icn", 3) << " | " << cell("final_icn_los", 3) << " | "
-         << cell("dist_total_m", 1) << " | " << fmt(100.0 * r->converged_fraction, 0) << "% |\n";
+      md << "| " << value_label(sweep, v) << " | " << to_string(a) << " | " << cell(metrics::kSumRateZfBpsHz, 1) << " | "
+         << cell(metrics::kSumRateNvBpsHz, 1) << " | " << cell(metrics::kFinalIcn, 3) << " | " << cell(kFinalIcnLos, 3) << " | "
+         << cell(metrics::kDistTotalM, 1) << " | " << fmt(100.0 * r->converged_fraction, 0) << "% |\n";
     }
   }
   md << "\n";

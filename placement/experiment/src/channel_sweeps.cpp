@@ -92,8 +92,9 @@ ChannelSweepSettings load_channel_sweep_settings(const ExperimentSettings& s) {
   return c;
 }
 
-std::vector<std::string> channel_sweep_extra_metrics() {
-  return {"final_icn_los", "final_icn_measured", "sum_rate_nv_los_bps_hz", "sum_rate_zf_los_bps_hz"};
+const ExtensionMetrics& channel_sweep_metrics() {
+  static const ExtensionMetrics kTable = {kFinalIcnLos, kFinalIcnMeasured, kSumRateNvLosBpsHz, kSumRateZfLosBpsHz};
+  return kTable;
 }
 
 std::vector<TrialRecord> run_channel_sweep_trial(const ExperimentSettings& s, const std::string& sweep, int point,
@@ -120,7 +121,10 @@ std::vector<TrialRecord> run_channel_sweep_trial(const ExperimentSettings& s, co
     TrialRecord rec = make_record(s, p, sweep, point, trial, to_string(a), r, &m);
     // The stop test's last value: measured CSI (= the LoS channel without conditions).
     const double measured = p.channel.active() ? (r.trace.empty() ? kNaN : r.trace.back().icn) : m.los.icn;
-    rec.extra = {m.los.icn, measured, m.los.sum_rate_nv_bps_hz, m.los.sum_rate_zf_bps_hz};
+    rec.extension.set(kFinalIcnLos, m.los.icn);
+    rec.extension.set(kFinalIcnMeasured, measured);
+    rec.extension.set(kSumRateNvLosBpsHz, m.los.sum_rate_nv_bps_hz);
+    rec.extension.set(kSumRateZfLosBpsHz, m.los.sum_rate_zf_bps_hz);
     records.push_back(std::move(rec));
   }
   return records;
@@ -132,7 +136,7 @@ ExperimentExtensions channel_sweep_extensions() {
     ExperimentExtension e;
     e.sweep = sweep;
     e.config_keys = channel_sweep_keys().known_keys();
-    e.extra_metrics = channel_sweep_extra_metrics();
+    e.metrics = channel_sweep_metrics();
     e.load_values = [sweep](const ExperimentSettings& s) {
       const ChannelSweepSettings c = load_channel_sweep_settings(s);
       if (sweep == kSweepRicianK) return c.rician_k_db_values;

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "losmimo/common/format.h"
+#include "losmimo/experiment/metrics.h"
 
 namespace losmimo::experiment {
 
@@ -31,15 +32,17 @@ std::vector<PointTask> point_tasks(const ExperimentSettings& s, const Experiment
   return tasks;
 }
 
-// An extension's extras (in its extra_metrics order) at their columns among all enabled sweeps'
-// extra metrics (NaN where it has none): two extensions may name different columns.
-std::vector<double> place_extras(const std::vector<double>& extras, const ExperimentExtension* extension,
-                                 const std::vector<std::string>& names) {
+// A record's extension metrics (extension_columns: every one set) at their columns among all
+// enabled sweeps' extension metrics (NaN where its extension has none): two extensions may name
+// different columns.
+std::vector<double> place_extension_columns(const TrialRecord& r, const ExperimentExtension* extension,
+                                            const std::vector<std::string>& names) {
   std::vector<double> placed(names.size(), std::nan(""));
   if (!extension) return placed;
-  for (std::size_t i = 0; i < extras.size() && i < extension->extra_metrics.size(); ++i) {
-    const auto it = std::find(names.begin(), names.end(), extension->extra_metrics[i]);
-    if (it != names.end()) placed[static_cast<std::size_t>(it - names.begin())] = extras[i];
+  const std::vector<double> own = extension_columns(r, extension->metrics);
+  for (std::size_t i = 0; i < own.size(); ++i) {
+    const auto it = std::find(names.begin(), names.end(), extension->metrics[i].name);
+    if (it != names.end()) placed[static_cast<std::size_t>(it - names.begin())] = own[i];
   }
   return placed;
 }
@@ -100,8 +103,9 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
         slots[job] = task.extension ? task.extension->run(s, task.point, job % trials)
                                     : run_trial(s, task.sweep->name, task.point, job % trials);
         for (TrialRecord& r : slots[job]) {
-          r.extra = place_extras(r.extra, task.extension, extension_names);
-          if (s.milestone_columns) {
+          r.extra = place_extension_columns(r, task.extension, extension_names);
+          r.extension = {};
+          if (s.milestone_columns) {  // milestone_metrics()' order
             const auto iteration = [](int i) { return i >= 0 ? static_cast<double>(i) : std::nan(""); };
             r.extra.push_back(iteration(r.icn050_iteration));
             r.extra.push_back(iteration(r.icn095_iteration));

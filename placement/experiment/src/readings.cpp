@@ -61,14 +61,12 @@ const ReadingMeasure* ReadingResults::find(std::size_t r, int number) const {
   return nullptr;
 }
 
-double record_metric(const TrialRecord& r, const std::string& metric) {
+double record_metric(const TrialRecord& r, MetricId metric) {
   const auto iteration = [](int i) { return i >= 0 ? static_cast<double>(i) : std::nan(""); };
-  if (metric == kIterationsToIcn050) return iteration(r.icn050_iteration);
-  if (metric == kIterationsToIcn095) return iteration(r.icn095_iteration);
-  for (const Metric& m : kMetrics) {
-    if (metric == m.name) return m.get(r);
-  }
-  return std::nan("");
+  if (metric == metrics::kIterationsToIcn050) return iteration(r.icn050_iteration);
+  if (metric == metrics::kIterationsToIcn095) return iteration(r.icn095_iteration);
+  const Metric* m = find_metric(metric);
+  return m ? m->get(r) : std::nan("");
 }
 
 bool agrees(const Estimate& e, const PaperValue& p) {
@@ -167,11 +165,14 @@ ReadingResults measure_readings(const ExperimentSettings& s, const ExperimentExt
 }
 
 namespace {
-std::string unit_of(const std::string& metric) {
-  if (metric.size() > 3 && metric.compare(metric.size() - 3, 3, "_db") == 0) return " dB";
-  if (metric.size() > 2 && metric.compare(metric.size() - 2, 2, "_m") == 0) return " m";
-  if (metric.rfind("iterations", 0) == 0) return " iterations";
-  return "";
+// " dB", " m", " iterations": the unit its table declares, "" for a ratio or a flag.
+std::string unit_of(MetricId metric) {
+  const char* unit = "";
+  if (const Metric* m = find_metric(metric)) unit = m->unit;
+  for (const ExtensionMetric& m : milestone_metrics()) {
+    if (m == metric) unit = m.unit;
+  }
+  return *unit ? std::string(" ") + unit : "";
 }
 std::string fixed(double v, int digits = 2) { return common::format_fixed(v, digits); }
 std::string signed_fixed(double v) { return (v >= 0.0 ? "+" : "") + fixed(v); }
@@ -269,7 +270,7 @@ void write_readings_csv(std::ostream& o, const ReadingResults& res) {
       const PaperValue& p = res.values[v];
       const ReadingMeasure& m = res.measures[r][v];
       o << res.readings[r].name << "," << res.value_numbers[v] << "," << quoted(p.figure) << "," << quoted(p.quantity)
-        << "," << p.sweep << "," << fmt(p.value) << "," << p.algorithm << "," << p.metric << "," << fmt(p.paper)
+        << "," << p.sweep << "," << fmt(p.value) << "," << p.algorithm << "," << p.metric.name << "," << fmt(p.paper)
         << "," << res.trials << "," << fmt(m.value.mean) << "," << fmt(m.value.ci95) << "," << m.value.n << ","
         << fmt(m.base.mean) << "," << fmt(m.base.ci95) << "," << m.base.n << "," << fmt(m.delta.mean) << ","
         << fmt(m.delta.ci95) << "," << m.delta.n << "," << (agrees(m.value, p) ? "yes" : "no") << ","

@@ -34,16 +34,16 @@ const SummaryRow* find_row(const std::vector<SummaryRow>& rows, const std::strin
 
 // Gnuplot data block per algorithm of a sweep: value and (mean, ci) of the given metrics.
 std::string sweep_dat(const std::vector<SummaryRow>& rows, const std::string& sweep, const std::vector<Algorithm>& algorithms,
-                      const std::vector<std::string>& metrics) {
+                      const std::vector<MetricId>& metrics) {
   std::ostringstream o;
   for (const Algorithm a : algorithms) {
     o << "# algorithm " << to_string(a) << ": value";
-    for (const auto& m : metrics) o << " " << m << "_mean " << m << "_ci95";
+    for (const MetricId m : metrics) o << " " << m.name << "_mean " << m.name << "_ci95";
     o << "\n";
     for (const SummaryRow& r : rows) {
       if (r.sweep != sweep || r.algorithm != to_string(a)) continue;
       o << r.value;
-      for (const auto& m : metrics) {
+      for (const MetricId m : metrics) {
         const Estimate* e = r.metric(m);
         o << " " << (e && std::isfinite(e->mean) ? e->mean : NAN) << " "
           << (e && std::isfinite(e->ci95) ? e->ci95 : 0.0);
@@ -84,33 +84,33 @@ std::vector<PaperValue> paper_values() {
   const std::string L = kSweepSigmaLoc;
   const std::string T = kSweepSigmaAct;
   return {
-      {"Sec 4", "random start NV SINR [dB]", L, 0.0, R, "sinr_nv_db", 0.3, 0.5},
-      {"Sec 4", "random start ZF SINR [dB]", L, 0.0, R, "sinr_zf_db", -5.5, 0.5},
-      {"Sec 4", "MF SINR [dB]", L, 0.0, R, "sinr_mf_db", 22.0, 0.5},
-      {"Fig 1", "GD iterations to ICN 0.95", L, 0.0, GD, kIterationsToIcn095, 78, 5},
-      {"Fig 1", "BF iterations to ICN 0.95", L, 0.0, BF, kIterationsToIcn095, 63, 5},
-      {"Fig 2a", "GD distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, GD, "dist_to_icn050_m", 5.0, 0.5},
-      {"Fig 2a", "GD distance to ICN 0.5 [m], sigma_loc 0.18", L, 0.18, GD, "dist_to_icn050_m", 7.5, 0.5},
-      {"Fig 2a", "GD distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, GD, "dist_to_icn095_m", 15.3, 0.5},
-      {"Fig 2a", "GD distance to ICN 0.95 [m], sigma_loc 0.18", L, 0.18, GD, "dist_to_icn095_m", 19.5, 0.5},
-      {"Fig 2a", "BF distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, BF, "dist_to_icn050_m", 8.3, 0.5},
-      {"Fig 2a", "BF distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, BF, "dist_to_icn095_m", 20.2, 0.5},
-      {"Fig 2a", "URA distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, URA, "dist_to_icn050_m", 10.3, 0.5},
-      {"Fig 2a", "URA distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, URA, "dist_to_icn095_m", 10.3, 0.5},
-      {"Fig 2a", "URA distance to ICN 0.95 [m], sigma_loc 0.18", L, 0.18, URA, "dist_to_icn095_m", 30.0, 0.5},
-      {"Fig 2b", "BF final NV SINR [dB], sigma_loc 0.18", L, 0.18, BF, "sinr_nv_db", 22.0, 0.5},
-      {"Fig 2b", "GD final NV SINR [dB], sigma_loc 0", L, 0.0, GD, "sinr_nv_db", 20.5, 0.5},
-      {"Fig 2b", "GD final NV SINR [dB], sigma_loc 0.18", L, 0.18, GD, "sinr_nv_db", 16.5, 0.5},
-      {"Fig 2b", "GD final ZF SINR [dB], sigma_loc 0.18", L, 0.18, GD, "sinr_zf_db", 19.0, 0.5},
-      {"Fig 2b", "URA final NV SINR [dB], sigma_loc 0", L, 0.0, URA, "sinr_nv_db", 22.0, 0.5},
-      {"Fig 2b", "URA final NV SINR [dB], sigma_loc 0.18", L, 0.18, URA, "sinr_nv_db", 15.5, 0.5},
-      {"Fig 2b", "URA final ZF SINR [dB], sigma_loc 0.18", L, 0.18, URA, "sinr_zf_db", 22.0, 0.5},
-      {"Fig 3", "GD final NV SINR [dB], sigma_act 0.18", T, 0.18, GD, "sinr_nv_db", 15.5, 0.5},
-      {"Fig 3", "GD final ZF SINR [dB], sigma_act 0.18", T, 0.18, GD, "sinr_zf_db", 21.0, 0.5},
-      {"Fig 3", "BF final NV SINR [dB], sigma_act 0", T, 0.0, BF, "sinr_nv_db", 22.0, 0.5},
-      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.02", T, 0.02, BF, "sinr_nv_db", 12.3, 0.5},
-      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.04", T, 0.04, BF, "sinr_nv_db", 3.0, 0.5},
-      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.06", T, 0.06, BF, "sinr_nv_db", 1.5, 0.5},
+      {"Sec 4", "random start NV SINR [dB]", L, 0.0, R, metrics::kSinrNvDb, 0.3, 0.5},
+      {"Sec 4", "random start ZF SINR [dB]", L, 0.0, R, metrics::kSinrZfDb, -5.5, 0.5},
+      {"Sec 4", "MF SINR [dB]", L, 0.0, R, metrics::kSinrMfDb, 22.0, 0.5},
+      {"Fig 1", "GD iterations to ICN 0.95", L, 0.0, GD, metrics::kIterationsToIcn095, 78, 5},
+      {"Fig 1", "BF iterations to ICN 0.95", L, 0.0, BF, metrics::kIterationsToIcn095, 63, 5},
+      {"Fig 2a", "GD distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, GD, metrics::kDistToIcn050M, 5.0, 0.5},
+      {"Fig 2a", "GD distance to ICN 0.5 [m], sigma_loc 0.18", L, 0.18, GD, metrics::kDistToIcn050M, 7.5, 0.5},
+      {"Fig 2a", "GD distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, GD, metrics::kDistToIcn095M, 15.3, 0.5},
+      {"Fig 2a", "GD distance to ICN 0.95 [m], sigma_loc 0.18", L, 0.18, GD, metrics::kDistToIcn095M, 19.5, 0.5},
+      {"Fig 2a", "BF distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, BF, metrics::kDistToIcn050M, 8.3, 0.5},
+      {"Fig 2a", "BF distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, BF, metrics::kDistToIcn095M, 20.2, 0.5},
+      {"Fig 2a", "URA distance to ICN 0.5 [m], sigma_loc 0", L, 0.0, URA, metrics::kDistToIcn050M, 10.3, 0.5},
+      {"Fig 2a", "URA distance to ICN 0.95 [m], sigma_loc 0", L, 0.0, URA, metrics::kDistToIcn095M, 10.3, 0.5},
+      {"Fig 2a", "URA distance to ICN 0.95 [m], sigma_loc 0.18", L, 0.18, URA, metrics::kDistToIcn095M, 30.0, 0.5},
+      {"Fig 2b", "BF final NV SINR [dB], sigma_loc 0.18", L, 0.18, BF, metrics::kSinrNvDb, 22.0, 0.5},
+      {"Fig 2b", "GD final NV SINR [dB], sigma_loc 0", L, 0.0, GD, metrics::kSinrNvDb, 20.5, 0.5},
+      {"Fig 2b", "GD final NV SINR [dB], sigma_loc 0.18", L, 0.18, GD, metrics::kSinrNvDb, 16.5, 0.5},
+      {"Fig 2b", "GD final ZF SINR [dB], sigma_loc 0.18", L, 0.18, GD, metrics::kSinrZfDb, 19.0, 0.5},
+      {"Fig 2b", "URA final NV SINR [dB], sigma_loc 0", L, 0.0, URA, metrics::kSinrNvDb, 22.0, 0.5},
+      {"Fig 2b", "URA final NV SINR [dB], sigma_loc 0.18", L, 0.18, URA, metrics::kSinrNvDb, 15.5, 0.5},
+      {"Fig 2b", "URA final ZF SINR [dB], sigma_loc 0.18", L, 0.18, URA, metrics::kSinrZfDb, 22.0, 0.5},
+      {"Fig 3", "GD final NV SINR [dB], sigma_act 0.18", T, 0.18, GD, metrics::kSinrNvDb, 15.5, 0.5},
+      {"Fig 3", "GD final ZF SINR [dB], sigma_act 0.18", T, 0.18, GD, metrics::kSinrZfDb, 21.0, 0.5},
+      {"Fig 3", "BF final NV SINR [dB], sigma_act 0", T, 0.0, BF, metrics::kSinrNvDb, 22.0, 0.5},
+      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.02", T, 0.02, BF, metrics::kSinrNvDb, 12.3, 0.5},
+      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.04", T, 0.04, BF, metrics::kSinrNvDb, 3.0, 0.5},
+      {"Fig 3", "BF final NV SINR [dB], sigma_act 0.06", T, 0.06, BF, metrics::kSinrNvDb, 1.5, 0.5},
   };
 }
 
@@ -193,7 +193,7 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
   // Fig 2a: distances against sigma_loc.
   if (s.sweep(kSweepSigmaLoc)) {
     common::write_file_atomically((dir / "fig2a.dat").string(),
-                          sweep_dat(rows, kSweepSigmaLoc, movers, {"dist_to_icn050_m", "dist_to_icn095_m"}));
+                          sweep_dat(rows, kSweepSigmaLoc, movers, {metrics::kDistToIcn050M, metrics::kDistToIcn095M}));
     std::ostringstream g;
     g << gp_header("fig2a.png", "Fig 2a: mean distance per UAV to ICN 0.5 (solid) and 0.95 (dotted)",
                    "localization error sigma_{loc} [m]", "distance per UAV [m]")
@@ -216,7 +216,7 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
     if (!s.sweep(sweep)) continue;
     stems.push_back(stem);
     common::write_file_atomically((dir / (stem + ".dat")).string(),
-                          sweep_dat(rows, sweep, s.algorithms, {"sinr_nv_db", "sinr_zf_db", "sinr_mf_db"}));
+                          sweep_dat(rows, sweep, s.algorithms, {metrics::kSinrNvDb, metrics::kSinrZfDb, metrics::kSinrMfDb}));
     std::ostringstream g;
     g << gp_header(stem + ".png",
                    (stem == "fig2b" ? "Fig 2b" : "Fig 3") +
@@ -282,7 +282,7 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
     const SummaryRow* row = find_row(rows, p.sweep, p.value, p.algorithm);
     const Estimate* e = row ? row->metric(p.metric) : nullptr;
     // Without milestone columns, Fig 1's counts are the runs' iterations (equal when they stop at 0.95).
-    if (row && !e && p.metric == kIterationsToIcn095) e = row->metric("iterations");
+    if (row && !e && p.metric == metrics::kIterationsToIcn095) e = row->metric(metrics::kIterations);
     const std::string head = "| " + std::to_string(number) + " | " + p.figure + " | " + p.quantity + " | " + fmt(p.paper, 1) + " | ";
     if (!e) {
       md << head << "not run | | | |\n";
@@ -309,13 +309,13 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
   if (random0) {
     md << "\n## The abstract's claims (at sigma_loc = " << loc->values.front() << ")\n\n"
        << "| algorithm | NV sum rate / random | NV SINR gain over random [dB] |\n|---|---|---|\n";
-    const Estimate* r_rate = random0->metric("sum_rate_nv_bps_hz");
-    const Estimate* r_sinr = random0->metric("sinr_nv_db");
+    const Estimate* r_rate = random0->metric(metrics::kSumRateNvBpsHz);
+    const Estimate* r_sinr = random0->metric(metrics::kSinrNvDb);
     for (const Algorithm a : movers) {
       const SummaryRow* row = find_row(rows, kSweepSigmaLoc, loc->values.front(), to_string(a));
       if (!row) continue;
-      md << "| " << to_string(a) << " | " << fmt(row->metric("sum_rate_nv_bps_hz")->mean / r_rate->mean, 2)
-         << "x (paper: up to 6x) | " << fmt(row->metric("sinr_nv_db")->mean - r_sinr->mean, 1)
+      md << "| " << to_string(a) << " | " << fmt(row->metric(metrics::kSumRateNvBpsHz)->mean / r_rate->mean, 2)
+         << "x (paper: up to 6x) | " << fmt(row->metric(metrics::kSinrNvDb)->mean - r_sinr->mean, 1)
          << " (paper: >= 15) |\n";
     }
   }

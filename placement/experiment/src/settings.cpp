@@ -309,8 +309,8 @@ std::vector<std::string> extension_metric_names(const ExperimentSettings& settin
   std::vector<std::string> names;
   for (const SweepPoints& sp : settings.sweeps) {
     if (const ExperimentExtension* e = find_extension(extensions, sp.name)) {
-      for (const std::string& m : e->extra_metrics) {
-        if (std::find(names.begin(), names.end(), m) == names.end()) names.push_back(m);
+      for (const ExtensionMetric& m : e->metrics) {
+        if (std::find(names.begin(), names.end(), m.name) == names.end()) names.emplace_back(m.name);
       }
     }
   }
@@ -321,8 +321,7 @@ std::vector<std::string> extra_metric_names(const ExperimentSettings& settings,
                                             const ExperimentExtensions& extensions) {
   std::vector<std::string> names = extension_metric_names(settings, extensions);
   if (settings.milestone_columns) {
-    names.push_back(kIterationsToIcn050);
-    names.push_back(kIterationsToIcn095);
+    for (const ExtensionMetric& m : milestone_metrics()) names.emplace_back(m.name);
   }
   return names;
 }

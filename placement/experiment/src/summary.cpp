@@ -45,9 +45,9 @@ Estimate estimate(const std::vector<double>& values) {
   return e;
 }
 
-const Estimate* SummaryRow::metric(const std::string& name) const {
+const Estimate* SummaryRow::metric(MetricId id) const {
   for (const auto& [n, e] : metrics) {
-    if (n == name) return &e;
+    if (n == id.name) return &e;
   }
   return nullptr;
 }

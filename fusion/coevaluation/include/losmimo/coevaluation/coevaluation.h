@@ -50,18 +50,8 @@
 //   outage_degraded_after_epochs epochs without beacon. Algorithms: gd_ekf (BF fallback) and,
 //   for comparison, gd_ekf_nofallback, gd_pf, gd_ekf_ceres.
 //
-// Extra trials.csv columns (nan where not applicable), the same for both sweeps:
-//   loc_rmse_m            3-D RMSE of the position estimates placement used, over every epoch
-//                         and UAV (gd_gauss: the model's sqrt(3) v, by construction)
-//   loc_lateral_rmse_m    the same across the line of sight, sqrt(e_y^2 + e_z^2) (gd_gauss:
-//                         sqrt(2) v)
-//   nees                  average e^T P^-1 e of those estimates (3 when consistent)
-//   bf_fallback_fraction  UAV-iterations in BF fallback / (Nr x iterations) (closed loop only)
-//   beacon_lateral_rmse_m the beacon-only fixes' lateral RMSE (measured), the matching check
-//   paired_travel_diff_m  gd_gauss_matched only: gd_ekf's dist_to_icn095_m minus its own, same
-//                         trial and point (NaN when either did not reach ICN 0.95); summarised,
-//                         the paired mean difference with its 95% CI
-//   paired_iterations_diff gd_gauss_matched only: gd_ekf's iterations minus its own
+// Extra trials.csv / summary.csv columns, the same for both sweeps: coevaluation_metrics() below
+// (every record sets each, NaN where it does not apply).
 //
 // Settings: the [coevaluation] keys, and the [closed_loop] keys the closed-loop algorithms share
 // with losmimo-record (one spelling: fusion/closed_loop_settings.h): the true beacon range noise,
@@ -133,8 +123,28 @@ CoevaluationSettings load_coevaluation_settings(const experiment::ExperimentSett
 // The settings as INI text: [coevaluation] and the shared [closed_loop] keys, defaults filled in.
 std::string to_ini(const CoevaluationSettings& settings);
 
-// The extra metric columns, in order (see above).
-const std::vector<std::string>& coevaluation_extra_metrics();
+// The extra metrics, declared like the built-in ones (experiment/metrics.h).
+inline constexpr experiment::ExtensionMetric kLocRmse{
+    {"loc_rmse_m"}, "m",
+    "3-D RMSE of the position estimates placement used, over every epoch and UAV (gd_gauss: the model's sqrt(3) v, "
+    "by construction)"};
+inline constexpr experiment::ExtensionMetric kLocLateralRmse{
+    {"loc_lateral_rmse_m"}, "m",
+    "the same across the line of sight, sqrt(e_y^2 + e_z^2) (gd_gauss: sqrt(2) v)"};
+inline constexpr experiment::ExtensionMetric kNees{
+    {"nees"}, "", "average e^T P^-1 e of those estimates (3 when consistent)"};
+inline constexpr experiment::ExtensionMetric kBfFallbackFraction{
+    {"bf_fallback_fraction"}, "", "UAV-iterations in BF fallback / (Nr x iterations) (closed loop only)"};
+inline constexpr experiment::ExtensionMetric kBeaconLateralRmse{
+    {"beacon_lateral_rmse_m"}, "m", "the beacon-only fixes' lateral RMSE (measured), the matching check"};
+inline constexpr experiment::ExtensionMetric kPairedTravelDiff{
+    {"paired_travel_diff_m"}, "m",
+    "gd_gauss_matched only: gd_ekf's dist_to_icn095_m minus its own, same trial and point (NaN when either did "
+    "not reach ICN 0.95); summarised, the paired mean difference with its 95% CI"};
+inline constexpr experiment::ExtensionMetric kPairedIterationsDiff{
+    {"paired_iterations_diff"}, "iterations", "gd_gauss_matched only: gd_ekf's iterations minus its own"};
+// Their table, in column order.
+const experiment::ExtensionMetrics& coevaluation_metrics();
 
 // The closed-loop config of `algorithm` (a closed-loop one) at beacon cross-range error
 // beacon_noise_m [m] (sigma_angle_rad = beacon_noise_m / R).

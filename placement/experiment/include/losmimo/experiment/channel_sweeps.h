@@ -10,12 +10,9 @@
 // every algorithm and point). The other [channel] keys apply as configured; the swept key is
 // replaced by the point's value.
 //
-// Extra columns (trials.csv, summary.csv), on top of the usual ones (which with fading are the
-// true channel's means over [channel] fading_eval_draws scatter draws at the final positions):
-//   final_icn_los           ICN of the LoS channel at the final positions (the geometry)
-//   final_icn_measured      the master's last measured ICN (what the stop test saw)
-//   sum_rate_nv_los_bps_hz  NV / ZF sum rates of the LoS channel
-//   sum_rate_zf_los_bps_hz
+// Extra columns (trials.csv, summary.csv): channel_sweep_metrics() below, on top of the usual
+// ones (which with fading are the true channel's means over [channel] fading_eval_draws scatter
+// draws at the final positions).
 // Each sweep writes <sweep>.png (.dat, .gp) and a report.md section comparing GD, BF and both
 // URAs, with a sentence on each claim of the follow-up paper (Hanna, Krijestorac, Cabric, JSAC
 // 2021; only its abstract was available) that the numbers support or contradict.
@@ -47,8 +44,17 @@ const common::KeyTable<ChannelSweepSettings>& channel_sweep_keys();
 // when a URA algorithm runs.
 ChannelSweepSettings load_channel_sweep_settings(const ExperimentSettings& settings);
 
-// The extra metric columns, in order.
-std::vector<std::string> channel_sweep_extra_metrics();
+// The extra metrics, declared like the built-in ones (metrics.h).
+inline constexpr ExtensionMetric kFinalIcnLos{
+    {"final_icn_los"}, "", "ICN of the LoS channel at the final positions (the geometry)"};
+inline constexpr ExtensionMetric kFinalIcnMeasured{
+    {"final_icn_measured"}, "", "the master's last measured ICN (what the stop test saw)"};
+inline constexpr ExtensionMetric kSumRateNvLosBpsHz{
+    {"sum_rate_nv_los_bps_hz"}, "bit/s/Hz", "NV sum rate of the LoS channel at the final positions"};
+inline constexpr ExtensionMetric kSumRateZfLosBpsHz{
+    {"sum_rate_zf_los_bps_hz"}, "bit/s/Hz", "ZF sum rate of the LoS channel at the final positions"};
+// Their table, in column order.
+const ExtensionMetrics& channel_sweep_metrics();
 
 // Trial `trial` at point `point` of one of the three sweeps: the settings' algorithms.
 std::vector<TrialRecord> run_channel_sweep_trial(const ExperimentSettings& settings, const std::string& sweep,

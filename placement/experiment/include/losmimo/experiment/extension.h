@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "losmimo/common/ini_config.h"
+#include "losmimo/experiment/metrics.h"
 #include "losmimo/experiment/trial.h"
 
 namespace losmimo::experiment {
@@ -21,12 +22,13 @@ struct SummaryRow;
 struct ExperimentExtension {
   std::string sweep;  // its name in [experiment] sweeps and in the `sweep` column
   std::map<std::string, std::set<std::string>> config_keys;  // the INI keys it reads
-  std::vector<std::string> extra_metrics;  // extra trials.csv / summary.csv columns it fills
+  ExtensionMetrics metrics;  // its metric table (metrics.h): the extra trials.csv / summary.csv columns
   // Validates its configuration (throwing common::InputError naming key and value) and returns the
   // sweep points. Called before any work.
   std::function<std::vector<double>(const ExperimentSettings&)> load_values;
-  // Runs its algorithms on trial `trial` at sweep point `point`; the records' `extra` follow
-  // extra_metrics. Must be deterministic in (settings, point, trial) and thread-safe.
+  // Runs its algorithms on trial `trial` at sweep point `point`; each record sets every metric of
+  // `metrics` in its `extension` values (the engine refuses one left unset). Must be
+  // deterministic in (settings, point, trial) and thread-safe.
   std::function<std::vector<TrialRecord>(const ExperimentSettings&, int point, int trial)> run;
   // Optional: figures (write files into the folder, return warnings) and a report.md section.
   std::function<std::vector<std::string>(const ExperimentSettings&, const std::vector<SummaryRow>&,
@@ -49,14 +51,12 @@ std::string to_ini(const ExperimentSettings& settings);
 ExperimentSettings apply_reading(const ExperimentSettings& base, const ReadingSpec& reading,
                                  const ExperimentExtensions& extensions);
 
-// The extra metric columns: the extensions' of the sweeps enabled in `settings`, in extension
-// order, then with [experiment] milestone_columns kIterationsToIcn050 and kIterationsToIcn095.
+// The extra metric columns: the extensions' metrics of the sweeps enabled in `settings`, in
+// sweep order (each name once), then with [experiment] milestone_columns milestone_metrics().
 std::vector<std::string> extra_metric_names(const ExperimentSettings& settings,
                                             const ExperimentExtensions& extensions);
 // The extensions' part of it.
 std::vector<std::string> extension_metric_names(const ExperimentSettings& settings,
                                                 const ExperimentExtensions& extensions);
-inline const std::string kIterationsToIcn050 = "iterations_to_icn050";
-inline const std::string kIterationsToIcn095 = "iterations_to_icn095";
 
 }  // namespace losmimo::experiment

@@ -50,9 +50,9 @@ struct ReadingResults {
 ReadingResults measure_readings(const ExperimentSettings& settings, const ExperimentExtensions& extensions,
                                 int threads);
 
-// The per-trial value of a paper value's metric in a record: a summary metric by name, or
-// kIterationsToIcn050 / kIterationsToIcn095 from the record's milestones (NaN if never reached).
-double record_metric(const TrialRecord& record, const std::string& metric);
+// The per-trial value of a paper value's metric in a record: a built-in metric (kMetrics), or
+// metrics::kIterationsToIcn050 / kIterationsToIcn095 from the record's milestones (NaN if never reached).
+double record_metric(const TrialRecord& record, MetricId metric);
 
 // readings.csv: one row per reading and paper value:
 // reading,number,figure,quantity,sweep,value,algorithm,metric,paper,trials,

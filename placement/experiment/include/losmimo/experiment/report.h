@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "losmimo/experiment/engine.h"
+#include "losmimo/experiment/metrics.h"
 #include "losmimo/experiment/summary.h"
 
 namespace losmimo::experiment {
@@ -68,12 +69,12 @@ struct PaperValue {
   std::string sweep;
   double value;          // sweep point
   std::string algorithm;
-  std::string metric;    // a summary_metric_names() entry
+  MetricId metric;       // a summarised metric or a milestone (metrics.h)
   double paper;
   double resolution;     // how precisely the value can be read off the paper's figure
 };
 // The 27 values, numbered 1..27 in this order. Fig 1's iteration counts use the metric
-// iterations_to_icn095 (the report falls back to `iterations` without milestone columns: the
+// metrics::kIterationsToIcn095 (the report falls back to `iterations` without milestone columns: the
 // same number for runs that stop at ICN 0.95).
 std::vector<PaperValue> paper_values();
 

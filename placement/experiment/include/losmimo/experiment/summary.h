@@ -26,7 +26,8 @@ struct SummaryRow {
   int trials = 0;
   double converged_fraction = 0.0;
   std::vector<std::pair<std::string, Estimate>> metrics;  // summary_metric_names() (metrics.h) + extra
-  const Estimate* metric(const std::string& name) const;  // nullptr if absent
+  // By handle (metrics::kSinrNvDb, an extension's ExtensionMetric); nullptr if absent.
+  const Estimate* metric(MetricId id) const;
 };
 std::vector<SummaryRow> summarize(const std::vector<TrialRecord>& records, const std::vector<std::string>& extra = {});
 void write_summary_csv(std::ostream& out, const std::vector<SummaryRow>& rows);

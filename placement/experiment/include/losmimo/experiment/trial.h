@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "losmimo/experiment/metric_values.h"
 #include "losmimo/experiment/settings.h"
 #include "losmimo/placement/channel_conditions.h"
 #include "losmimo/placement/run.h"
@@ -62,7 +63,12 @@ struct TrialRecord {
   int icn095_iteration = -1;
   Eigen::Matrix3Xd start_m;
   Eigen::Matrix3Xd final_m;
-  std::vector<double> extra;  // an extension's extra metrics (ExperimentExtension::extra_metrics)
+  // An extension's metrics, set by handle (ExperimentExtension::metrics; every one, NaN where it
+  // does not apply).
+  MetricValues extension;
+  // The extra columns (extra_metric_names, extension.h), in that order: the engine fills them
+  // from `extension` and the milestones, and clears `extension`.
+  std::vector<double> extra;
 };
 
 // The trial's start positions and seeds (shared by every sweep kind, extensions included).
