@@ -1,4 +1,5 @@
 #include "losmimo/fusion/closed_loop_settings.h"
+#include "losmimo/common/text.h"
 
 #include <limits>
 #include <sstream>
@@ -14,13 +15,6 @@ constexpr common::Range kOutageEpoch = localization::simulator_range::outage_epo
 constexpr long long lo(const common::Range& r) { return static_cast<long long>(r.lo); }
 constexpr long long hi(const common::Range& r) { return static_cast<long long>(r.hi); }
 
-std::string exact(double v) { return common::format_g(v, common::kExactDigits); }
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t") - b + 1);
-}
 
 // "uav:first_epoch:num_epochs, ..."; errors name the entry. UAV indices are checked against the
 // swarm by load_closed_loop_config.
@@ -29,7 +23,7 @@ std::vector<UavBeaconOutage> parse_outages(const std::string& text, const std::s
   std::stringstream list(text);
   std::string item;
   while (std::getline(list, item, ',')) {
-    item = trim(item);
+    item = common::trim(item);
     if (item.empty()) continue;
     std::stringstream parts(item);
     std::string a, b, c, extra;
@@ -39,9 +33,9 @@ std::vector<UavBeaconOutage> parse_outages(const std::string& text, const std::s
     }
     const std::string w = where + ": outage '" + item + "'";
     UavBeaconOutage o;
-    o.uav = static_cast<int>(common::parse_integer(trim(a), w + " uav", lo(closed_loop_range::uav), hi(closed_loop_range::uav)));
-    o.window.first_epoch = static_cast<int>(common::parse_integer(trim(b), w + " first_epoch", lo(kOutageEpoch), hi(kOutageEpoch)));
-    o.window.num_epochs = static_cast<int>(common::parse_integer(trim(c), w + " num_epochs", lo(kOutageEpoch), hi(kOutageEpoch)));
+    o.uav = static_cast<int>(common::parse_integer(common::trim(a), w + " uav", lo(closed_loop_range::uav), hi(closed_loop_range::uav)));
+    o.window.first_epoch = static_cast<int>(common::parse_integer(common::trim(b), w + " first_epoch", lo(kOutageEpoch), hi(kOutageEpoch)));
+    o.window.num_epochs = static_cast<int>(common::parse_integer(common::trim(c), w + " num_epochs", lo(kOutageEpoch), hi(kOutageEpoch)));
     out.push_back(o);
   }
   return out;
@@ -62,12 +56,12 @@ std::vector<UavFault> parse_faults(const std::string& text, const std::string& w
   std::stringstream list(text);
   std::string item;
   while (std::getline(list, item, ',')) {
-    item = trim(item);
+    item = common::trim(item);
     if (item.empty()) continue;
     std::vector<std::string> parts;
     std::stringstream fields(item);
     std::string part;
-    while (std::getline(fields, part, ':')) parts.push_back(trim(part));
+    while (std::getline(fields, part, ':')) parts.push_back(common::trim(part));
     if (parts.size() < 3 || parts.size() > 4) {
       throw common::InputError(where + ": fault '" + item + "': expected kind:uav:from_iteration[:num_iterations]");
     }
@@ -209,7 +203,7 @@ std::vector<common::Key<ClosedLoopConfig>> closed_loop_key_list() {
 }  // namespace
 
 const common::KeyTable<ClosedLoopConfig>& closed_loop_keys() {
-  static const common::KeyTable<ClosedLoopConfig> table(closed_loop_key_list(), &exact);
+  static const common::KeyTable<ClosedLoopConfig> table(closed_loop_key_list(), &common::format_exact);
   return table;
 }
 

@@ -1,5 +1,7 @@
 #include "losmimo/common/ini_config.h"
 
+#include "losmimo/common/text.h"
+
 #include <cctype>
 #include <fstream>
 #include <sstream>
@@ -12,14 +14,6 @@ namespace losmimo::common {
 namespace {
 // The field an error about a key names: "[section] key".
 std::string field_name(const std::string& section, const std::string& key) { return "[" + section + "] " + key; }
-
-std::string trim(const std::string& s) {
-  std::size_t b = 0;
-  std::size_t e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return s.substr(b, e - b);
-}
 
 bool valid_name(const std::string& name) {
   if (name.empty()) return false;

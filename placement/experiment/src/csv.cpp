@@ -10,9 +10,7 @@
 namespace losmimo::experiment {
 
 namespace {
-std::string fmt(double v) { return common::format_g(v, common::kCsvDigits); }
 // Positions must read back exactly, for recomputation.
-std::string exact(double v) { return common::format_g(v, common::kExactDigits); }
 }  // namespace
 
 void write_trials_header(std::ostream& out, const std::vector<std::string>& extra) {
@@ -25,17 +23,17 @@ void write_trials_header(std::ostream& out, const std::vector<std::string>& extr
 
 void write_trials_rows(std::ostream& out, const std::vector<TrialRecord>& records, std::size_t num_extra) {
   for (const TrialRecord& r : records) {
-    out << r.sweep << "," << fmt(r.value) << "," << r.algorithm << "," << r.trial << "," << r.seed;
+    out << r.sweep << "," << common::format_csv(r.value) << "," << r.algorithm << "," << r.trial << "," << r.seed;
     for (const Metric& m : kMetrics) {
       out << ",";
       if (m.is_real()) {
-        out << fmt(m.get(r));
+        out << common::format_csv(m.get(r));
       } else {
         out << static_cast<long long>(m.get(r));
       }
     }
     out << "," << r.start_seed << "," << r.status;
-    for (std::size_t i = 0; i < num_extra; ++i) out << "," << fmt(i < r.extra.size() ? r.extra[i] : std::nan(""));
+    for (std::size_t i = 0; i < num_extra; ++i) out << "," << common::format_csv(i < r.extra.size() ? r.extra[i] : std::nan(""));
     out << "\n";
   }
 }
@@ -44,13 +42,13 @@ void write_positions_header(std::ostream& out) { out << "sweep,value,algorithm,t
 
 void write_positions_rows(std::ostream& out, const std::vector<TrialRecord>& records) {
   for (const TrialRecord& r : records) {
-    const std::string prefix = r.sweep + "," + fmt(r.value) + "," + r.algorithm + "," +
+    const std::string prefix = r.sweep + "," + common::format_csv(r.value) + "," + r.algorithm + "," +
                                std::to_string(r.trial) + ",";
     for (const auto& [stage, q] : {std::pair<const char*, const Eigen::Matrix3Xd*>{"start", &r.start_m},
                                    {"final", &r.final_m}}) {
       for (Eigen::Index n = 0; n < q->cols(); ++n) {
-        out << prefix << n + 1 << "," << stage << "," << exact((*q)(0, n)) << "," << exact((*q)(1, n)) << ","
-            << exact((*q)(2, n)) << "\n";
+        out << prefix << n + 1 << "," << stage << "," << common::format_exact((*q)(0, n)) << "," << common::format_exact((*q)(1, n)) << ","
+            << common::format_exact((*q)(2, n)) << "\n";
       }
     }
   }
@@ -61,9 +59,9 @@ void write_traces_csv(std::ostream& out, const std::vector<TracedRun>& traces) {
   for (const TracedRun& t : traces) {
     if (!t.fig1()) continue;  // the path figure's runs under error: paths.csv only
     for (const placement::IterationRecord& r : t.result.trace) {
-      out << to_string(t.algorithm) << "," << t.trial << "," << r.iteration << "," << fmt(r.icn) << ","
-          << fmt(r.objective) << "," << fmt(r.sinr_nv_db) << "," << fmt(r.sinr_zf_db) << ","
-          << fmt(r.sinr_mf_db) << "," << fmt(r.placement_dist_m) << "," << fmt(r.probe_dist_m) << "\n";
+      out << to_string(t.algorithm) << "," << t.trial << "," << r.iteration << "," << common::format_csv(r.icn) << ","
+          << common::format_csv(r.objective) << "," << common::format_csv(r.sinr_nv_db) << "," << common::format_csv(r.sinr_zf_db) << ","
+          << common::format_csv(r.sinr_mf_db) << "," << common::format_csv(r.placement_dist_m) << "," << common::format_csv(r.probe_dist_m) << "\n";
     }
   }
 }

@@ -18,22 +18,21 @@ using common::InputError;
 
 namespace {
 // Full precision (round trip): the checkpoint and shard records.
-std::string exact(double v) { return common::format_g(v, common::kExactDigits); }
 
 void write_matrix(std::ostream& out, const Eigen::Matrix3Xd& q) {
   out << "," << q.cols();
   for (Eigen::Index n = 0; n < q.cols(); ++n) {
-    for (int i = 0; i < 3; ++i) out << "," << exact(q(i, n));
+    for (int i = 0; i < 3; ++i) out << "," << common::format_exact(q(i, n));
   }
 }
 
 std::string record_text(int point, const TrialRecord& r) {
   std::ostringstream out;
-  out << "r," << point << "," << r.sweep << "," << exact(r.value) << "," << r.algorithm << "," << r.trial << ","
+  out << "r," << point << "," << r.sweep << "," << common::format_exact(r.value) << "," << r.algorithm << "," << r.trial << ","
       << r.seed << "," << r.start_seed << "," << r.status;
-  for (const Metric& m : kMetrics) out << "," << exact(m.get(r));
+  for (const Metric& m : kMetrics) out << "," << common::format_exact(m.get(r));
   out << "," << r.extra.size();
-  for (const double v : r.extra) out << "," << exact(v);
+  for (const double v : r.extra) out << "," << common::format_exact(v);
   write_matrix(out, r.start_m);
   write_matrix(out, r.final_m);
   return out.str();

@@ -1,4 +1,5 @@
 #include "losmimo/experiment/settings.h"
+#include "losmimo/common/text.h"
 
 #include <algorithm>
 #include <cctype>
@@ -78,25 +79,19 @@ bool valid_reading_name(const std::string& name) {
 
 // "name: section.key=value, ... | name: ..." (an empty text: none; ';' would start an INI comment). The keys are checked when the
 // readings are applied (load_experiment_settings).
-std::string trim(const std::string& text) {
-  const std::size_t b = text.find_first_not_of(" \t");
-  if (b == std::string::npos) return "";
-  return text.substr(b, text.find_last_not_of(" \t") - b + 1);
-}
-
 std::vector<ReadingSpec> parse_readings(const std::string& text, const std::string& where) {
   std::vector<ReadingSpec> readings;
-  if (trim(text).empty()) return readings;
+  if (common::trim(text).empty()) return readings;
   std::istringstream in(text);
   std::string item;
   while (std::getline(in, item, '|')) {
-    if (trim(item).empty()) throw common::InputError(where + ": an empty reading in '" + text + "'");
+    if (common::trim(item).empty()) throw common::InputError(where + ": an empty reading in '" + text + "'");
     const std::size_t colon = item.find(':');
     if (colon == std::string::npos) {
-      throw common::InputError(where + ": reading '" + trim(item) + "': expected name: section.key=value, ...");
+      throw common::InputError(where + ": reading '" + common::trim(item) + "': expected name: section.key=value, ...");
     }
     ReadingSpec r;
-    r.name = trim(item.substr(0, colon));
+    r.name = common::trim(item.substr(0, colon));
     if (!valid_reading_name(r.name)) {
       throw common::InputError(where + ": reading name '" + r.name + "': letters, digits, '-', '_', '.' only");
     }
@@ -106,11 +101,11 @@ std::vector<ReadingSpec> parse_readings(const std::string& text, const std::stri
     for (const std::string& assignment : common::split_list(item.substr(colon + 1))) {
       const std::size_t eq = assignment.find('=');
       const std::size_t dot = assignment.find('.');
-      if (eq == std::string::npos || dot == std::string::npos || dot > eq || trim(assignment.substr(eq + 1)).empty()) {
+      if (eq == std::string::npos || dot == std::string::npos || dot > eq || common::trim(assignment.substr(eq + 1)).empty()) {
         throw common::InputError(where + ": reading '" + r.name + "': '" + assignment +
                                  "': expected section.key=value");
       }
-      r.assignments.emplace_back(trim(assignment.substr(0, eq)), trim(assignment.substr(eq + 1)));
+      r.assignments.emplace_back(common::trim(assignment.substr(0, eq)), common::trim(assignment.substr(eq + 1)));
     }
     if (r.assignments.empty()) throw common::InputError(where + ": reading '" + r.name + "' sets no key");
     readings.push_back(std::move(r));

@@ -10,7 +10,6 @@
 namespace losmimo::experiment {
 
 namespace {
-std::string fmt(double v) { return common::format_g(v, common::kCsvDigits); }
 }  // namespace
 
 Estimate estimate(const std::vector<double>& values) {
@@ -98,9 +97,9 @@ void write_summary_csv(std::ostream& out, const std::vector<SummaryRow>& rows) {
   }
   out << "\n";
   for (const SummaryRow& r : rows) {
-    out << r.sweep << "," << fmt(r.value) << "," << r.algorithm << "," << r.trials << ","
-        << fmt(r.converged_fraction);
-    for (const auto& [name, e] : r.metrics) out << "," << fmt(e.mean) << "," << fmt(e.ci95) << "," << e.n;
+    out << r.sweep << "," << common::format_csv(r.value) << "," << r.algorithm << "," << r.trials << ","
+        << common::format_csv(r.converged_fraction);
+    for (const auto& [name, e] : r.metrics) out << "," << common::format_csv(e.mean) << "," << common::format_csv(e.ci95) << "," << e.n;
     out << "\n";
   }
 }

@@ -5,6 +5,8 @@
 //   format_g(v, digits)        printf "%.<digits>g"; non-finite values as "nan", "inf", "-inf"
 //                              (the sign of a NaN is dropped): CSV columns use kCsvDigits,
 //                              records that must read back exactly use kExactDigits
+//   format_exact(v)            format_g(v, kExactDigits): records and INI values that read back exactly
+//   format_csv(v)              format_g(v, kCsvDigits): CSV columns
 //   format_fixed(v, decimals)  printf "%.<decimals>f", or "n/a" for a non-finite value: reports
 //   format_hex64(v)            16 lower-case hex digits: digests
 
@@ -18,6 +20,8 @@ inline constexpr int kExactDigits = 17;
 
 std::string format_double(double value);
 std::string format_g(double value, int digits);
+inline std::string format_exact(double value) { return format_g(value, kExactDigits); }
+inline std::string format_csv(double value) { return format_g(value, kCsvDigits); }
 std::string format_fixed(double value, int decimals);
 std::string format_hex64(std::uint64_t value);
 
