@@ -12,6 +12,7 @@
 
 #include "experiment_common.h"
 #include "losmimo/apps/exit_codes.h"
+#include "losmimo/apps/unused_keys.h"
 #include "losmimo/common/atomic_file.h"
 #include "losmimo/common/format.h"
 #include "losmimo/common/ini_config.h"
@@ -43,7 +44,12 @@ ExperimentSettings load_settings(const ExperimentOptions& options, const Experim
   // Named after their option in messages, not "--set".
   if (options.trials > 0) config.set("experiment", "trials", std::to_string(options.trials), "--trials");
   if (options.threads >= 0) config.set("experiment", "threads", std::to_string(options.threads), "--threads");
-  return load_experiment_settings(config, extensions);
+  ExperimentSettings settings = load_experiment_settings(config, extensions);
+  // A --set key that none of the run's sweeps uses is refused (unused_keys.h).
+  std::vector<std::string> sweeps;
+  for (const SweepPoints& s : settings.sweeps) sweeps.push_back(s.name);
+  refuse_unused_overrides(config, options.overrides, sweeps);
+  return settings;
 }
 
 int threads_of(const ExperimentSettings& settings) {
