@@ -1,20 +1,23 @@
 // Every key of every key table, in every app and sweep that accepts it, either changes that
 // run's results or is refused. For each context (an app, or losmimo-experiment with one sweep),
-// a tiny configuration runs once as it is and once per key with `--set section.key=<example>`
-// (the table's `example`; the default's text when the context's own configuration already sets
-// the example). The key passes when
-//   - the run exits 0 and its result bytes differ from the tiny run's (the results: the
-//     experiment's *.csv files, eval's --csv output, the records of the rawlog), or
+// a tiny configuration runs once as it is and once per key with `--set section.key=<value>`:
+// the table's `example` (kValues' value for [experiment] sweeps; the default's text when the
+// tiny configuration already sets the example). The key passes when
+//   - the run exits 0 and its result bytes differ (the results: the experiment's *.csv files,
+//     eval's --csv output, the records of the rawlog), or
 //   - the run exits 2 with a message naming "[section] key" (an unknown key, a value the
-//     context cannot use, a key the context does not use).
-// A key that exits 0 with the same results is silently ignored: the test fails, naming it.
-// Exceptions, each with its reason: keys that only change figures, logging or scheduling
-// (kFigureOrLoggingOnly: they must still be accepted), keys a context cannot vary on their own
-// (kNotTriedIn), and keys that will act once the co-evaluation builds its planners as the
-// experiment does (kFixedByCoevaluationPlannerConstruction: ignored today; the test fails when
-// one starts to act, so that the list is emptied).
+//     context cannot use, a key the context does not use: apps/unused_keys.h).
+// A key that exits 0 with the same results in every regime it is tried in is silently ignored:
+// the test fails, naming it. The configuration a key is tried on is the tiny one, with
+// kConditions' keys set for a key that another key enables (the particle count with filter =
+// pf), then, while the results stay the same, each of kRegimes (runs that do not converge,
+// stall, overshoot) on top of it; each run is compared with the same configuration without the
+// key. Exceptions, each with its reason: keys that only change figures, logging or scheduling
+// (kFigureOrLoggingOnly: they must still be accepted), and keys that act once the co-evaluation
+// builds its planners as the experiment does (kFixedByCoevaluationPlannerConstruction: ignored
+// today; the test fails when one starts to act, so that the list is emptied).
 // losmimo-replay takes no key-table settings (it reads the recorded CONFIG; its options are
-// flags), so it has no context here.
+// flags), so it has no context here: what it replays is the rawlog that the record context checks.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -110,12 +113,14 @@ const Exemptions kFigureOrLoggingOnly = {
 using Assignments = std::vector<std::pair<std::string, std::string>>;
 
 // Keys that act only when another key enables them: in `context` ("*": every context) they are
-// tried on the tiny configuration with `given` set, against the tiny run with `given`.
+// tried on the tiny configuration with `given` set, against the tiny run with `given` (a context
+// that refuses `given` tries the key on the tiny configuration).
 struct Condition {
   std::string context, key;
   Assignments given;
   std::string reason;
 };
+
 // Regimes in which the planners' stop rules and options act: a key that leaves the tiny run's
 // results unchanged is tried in each in turn (on top of the tiny configuration, against the
 // regime's own run) until one shows its effect. A key that acts in none is ignored.
