@@ -46,9 +46,12 @@ ExperimentSettings load_settings(const ExperimentOptions& options, const Experim
   if (options.threads >= 0) config.set("experiment", "threads", std::to_string(options.threads), "--threads");
   ExperimentSettings settings = load_experiment_settings(config, extensions);
   // A --set key that none of the run's sweeps uses is refused (unused_keys.h).
-  std::vector<std::string> sweeps;
-  for (const SweepPoints& s : settings.sweeps) sweeps.push_back(s.name);
-  refuse_unused_overrides(config, options.overrides, sweeps);
+  ExperimentUse use;
+  for (const SweepPoints& s : settings.sweeps) use.sweeps.push_back(s.name);
+  for (const Algorithm a : settings.algorithms) use.algorithms.push_back(to_string(a));
+  use.fading = settings.placement.channel.fading();
+  use.readings = !settings.readings.empty();
+  refuse_unused_overrides(config, options.overrides, experiment_users(use));
   return settings;
 }
 

@@ -92,6 +92,22 @@ const std::vector<UnusedKeys>& unused_keys() {
       {{"experiment.fig1_trials", "experiment.paths", "experiment.readings", "experiment.reading_trials"},
        {kRicianK, kCsiSnr, kBsAntennas, kBeaconNoise, kBeaconOutage},
        "Fig 1's traces, the path figure and the readings belong to the built-in sweeps sigma_loc_m and sigma_act_m"},
+      // Parts of a run that its other settings switch off.
+      {{"gd.*"}, {kNoGd}, "the built-in and channel sweeps run GD only when [experiment] algorithms lists gd"},
+      {{"bf.*"}, {kNoBf}, "the built-in and channel sweeps run BF only when [experiment] algorithms lists bf"},
+      {{"placement.milestone_distance_includes_probes"}, {kNoBf}, "only BF flies probes"},
+      {{"ura.*"},
+       {kNoUra},
+       "the built-in and channel sweeps run a URA only when [experiment] algorithms lists ura, ura_lattice or "
+       "ura_lattice_exact"},
+      {{"channel.coherence_iterations", "channel.fading_eval_draws"},
+       {kLosChannel},
+       "without fading there is no scattered component to draw (set a finite [channel] rician_k_db)"},
+      {{"experiment.reading_trials"}, {kNoReadings}, "the trials of [experiment] readings, which has none"},
+      {{"closed_loop.num_particles"}, {kEkfFilter}, "the particle filter's size (set [closed_loop] filter = pf)"},
+      {{"closed_loop.window_epochs", "closed_loop.use_csi"},
+       {kNoRefinement},
+       "the Ceres refinement's settings (set [closed_loop] refine = true)"},
       // The closed loop (losmimo-record, and every beacon_outage row) plans with GD, and BF for a
       // UAV whose belief is degraded (fusion/closed_loop.h).
       {{"ura.*"}, {kRecord, kBeaconOutage}, "no URA runs (the closed loop plans with GD and BF)"},
@@ -129,8 +145,30 @@ std::string unused_keys_markdown() {
   return out;
 }
 
+std::vector<KeyUser> experiment_users(const ExperimentUse& use) {
+  const auto runs = [&use](const std::vector<std::string>& names) {
+    return std::any_of(names.begin(), names.end(), [&use](const std::string& n) {
+      return std::find(use.algorithms.begin(), use.algorithms.end(), n) != use.algorithms.end();
+    });
+  };
+  std::vector<KeyUser> users;
+  for (const std::string& sweep : use.sweeps) {
+    KeyUser u{sweep, {}};
+    // [experiment] algorithms: the built-in and channel sweeps' planners.
+    if (sweep != kBeaconNoise && sweep != kBeaconOutage) {
+      if (!runs({"gd"})) u.conditions.push_back(kNoGd);
+      if (!runs({"bf"})) u.conditions.push_back(kNoBf);
+      if (!runs({"ura", "ura_lattice", "ura_lattice_exact"})) u.conditions.push_back(kNoUra);
+    }
+    if (!use.fading && sweep != kRicianK) u.conditions.push_back(kLosChannel);
+    if (!use.readings) u.conditions.push_back(kNoReadings);
+    users.push_back(std::move(u));
+  }
+  return users;
+}
+
 void refuse_unused_overrides(const common::IniConfig& config, const std::vector<std::string>& overrides,
-                             const std::vector<std::string>& users) {
+                             const std::vector<KeyUser>& users) {
   if (users.empty()) return;
   for (const std::string& assignment : overrides) {
     // Already applied by IniConfig::set_override, which checked the form "section.key=value".
@@ -143,15 +181,18 @@ void refuse_unused_overrides(const common::IniConfig& config, const std::vector<
     };
     const std::string section = trim(assignment.substr(0, dot));
     const std::string key = trim(assignment.substr(dot + 1, eq - dot - 1));
-    // Unused when every user is listed by an entry of the key; the reasons of those entries.
+    // Unused when every user is listed, by its name or a condition, by an entry of the key.
     std::vector<std::string> reasons;
     bool used = false;
-    for (const std::string& user : users) {
+    for (const KeyUser& user : users) {
       bool unused_here = false;
       for (const UnusedKeys& entry : unused_keys()) {
         const bool listed = std::any_of(entry.keys.begin(), entry.keys.end(),
                                         [&](const std::string& p) { return key_matches(p, section, key); });
-        if (!listed || std::find(entry.users.begin(), entry.users.end(), user) == entry.users.end()) continue;
+        const auto names_user = [&](const std::string& u) {
+          return u == user.name || std::find(user.conditions.begin(), user.conditions.end(), u) != user.conditions.end();
+        };
+        if (!listed || std::none_of(entry.users.begin(), entry.users.end(), names_user)) continue;
         unused_here = true;
         if (std::find(reasons.begin(), reasons.end(), entry.reason) == reasons.end()) reasons.push_back(entry.reason);
       }
@@ -159,8 +200,8 @@ void refuse_unused_overrides(const common::IniConfig& config, const std::vector<
     }
     if (used) continue;
     std::string who, why;
-    for (const std::string& u : users) {
-      who += (who.empty() ? "" : ", ") + (u.rfind("losmimo-", 0) == 0 ? u : "the sweep " + u);
+    for (const KeyUser& u : users) {
+      who += (who.empty() ? "" : ", ") + (u.name.rfind("losmimo-", 0) == 0 ? u.name : "the sweep " + u.name);
     }
     for (const std::string& r : reasons) why += (why.empty() ? "" : "; ") + r;
     throw common::InputError(config.where(section, key) + ": not used by " + who + ": " + why);
