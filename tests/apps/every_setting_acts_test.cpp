@@ -114,11 +114,14 @@ using Assignments = std::vector<std::pair<std::string, std::string>>;
 
 // Keys that act only when another key enables them: in `context` ("*": every context) they are
 // tried on the tiny configuration with `given` set, against the tiny run with `given` (a context
-// that refuses `given` tries the key on the tiny configuration).
+// that refuses `given` tries the key on the tiny configuration). With `refused_without`, the app
+// refuses the key while `given` is not set (unused_keys.h's conditions): the key is tried on the
+// tiny configuration too, where it must be refused.
 struct Condition {
   std::string context, key;
   Assignments given;
   std::string reason;
+  bool refused_without = false;
 };
 
 // Regimes in which the planners' stop rules and options act: a key that leaves the tiny run's
@@ -144,15 +147,15 @@ const std::vector<Regime> kRegimes = {
 
 const std::vector<Condition> kConditions = {
     {"*", "ura.retry", {{"placement.target_icn", "0.99"}}, "URA moves again only while the target ICN is not reached"},
-    {"*", "channel.coherence_iterations", {{"channel.rician_k_db", "10"}}, "block fading needs a finite K-factor"},
-    {"*", "channel.fading_eval_draws", {{"channel.rician_k_db", "10"}}, "scatter draws need a finite K-factor"},
+    {"*", "channel.coherence_iterations", {{"channel.rician_k_db", "10"}}, "block fading needs a finite K-factor", true},
+    {"*", "channel.fading_eval_draws", {{"channel.rician_k_db", "10"}}, "scatter draws need a finite K-factor", true},
     // Readings are measured at the paper's values (sweep points such as 0), on at most the run's trials.
     {experiment::kSweepSigmaLoc, "experiment.reading_trials",
      {{"experiment.readings", "r: gd.escape=false"}, {"experiment.trials", "21"}, {"experiment.sigma_loc_values_m", "0"}},
-     "the trials of the readings, when the run has more"},
+     "the trials of the readings, when the run has more", true},
     {experiment::kSweepSigmaAct, "experiment.reading_trials",
      {{"experiment.readings", "r: gd.escape=false"}, {"experiment.trials", "21"}, {"experiment.sigma_act_values_m", "0"}},
-     "the trials of the readings, when the run has more"},
+     "the trials of the readings, when the run has more", true},
     {experiment::kSweepSigmaLoc, "experiment.readings", {{"experiment.sigma_loc_values_m", "0"}},
      "measured at the paper's values"},
     {experiment::kSweepSigmaAct, "experiment.readings", {{"experiment.sigma_act_values_m", "0"}},
@@ -178,9 +181,9 @@ const std::vector<Condition> kConditions = {
      {{"coevaluation.outage_algorithms", "gd_ekf_ceres"}}, "the refinement's window"},
     {coevaluation::kSweepBeaconOutage, "closed_loop.use_csi", {{"coevaluation.outage_algorithms", "gd_ekf_ceres"}},
      "the refinement's CSI rows"},
-    {"record", "closed_loop.num_particles", {{"closed_loop.filter", "pf"}}, "the particle filter's size"},
-    {"record", "closed_loop.window_epochs", {{"closed_loop.refine", "true"}}, "the refinement's window"},
-    {"record", "closed_loop.use_csi", {{"closed_loop.refine", "true"}}, "the refinement's CSI rows"},
+    {"record", "closed_loop.num_particles", {{"closed_loop.filter", "pf"}}, "the particle filter's size", true},
+    {"record", "closed_loop.window_epochs", {{"closed_loop.refine", "true"}}, "the refinement's window", true},
+    {"record", "closed_loop.use_csi", {{"closed_loop.refine", "true"}}, "the refinement's CSI rows", true},
     {"record", "closed_loop.fallback", {{"closed_loop.outages", "0:1:30"}}, "BF for a UAV whose belief degrades"},
     {"record", "closed_loop.degraded_after_epochs", {{"closed_loop.outages", "0:1:30"}},
      "a belief degrades without beacons"},
@@ -202,6 +205,7 @@ struct Value {
 };
 const std::vector<Value> kValues = {
     {experiment::kSweepSigmaLoc, "experiment.sweeps", "sigma_loc_m, sigma_act_m"},
+    {"sigma_loc_m_gd_only", "experiment.sweeps", "sigma_loc_m, sigma_act_m"},
     {experiment::kSweepSigmaAct, "experiment.sweeps", "sigma_act_m, sigma_loc_m"},
     {experiment::kSweepRicianK, "experiment.sweeps", "rician_k_db, sigma_act_m"},
     {experiment::kSweepCsiSnr, "experiment.sweeps", "csi_snr_db, sigma_act_m"},
@@ -307,7 +311,7 @@ fs::path scratch(const std::string& context) {
   return dir;
 }
 
-Context experiment_context(const std::string& sweep, const Assignments& tiny) {
+Context experiment_context(const std::string& sweep, const Assignments& tiny, const std::string& name = "") {
   // Common to every sweep: one trial, one thread, four UAVs, at most 40 iterations (GD stalls,
   // escapes and converges within them; so does BF, with bf.stall_window = 3 where BF runs), no
   // figures.
@@ -316,9 +320,9 @@ Context experiment_context(const std::string& sweep, const Assignments& tiny) {
                      {"gd.stall_window", "3"}};
   all.insert(all.end(), tiny.begin(), tiny.end());
   Context c;
-  c.name = sweep;
+  c.name = name.empty() ? sweep : name;
   c.tiny = all;
-  c.run = [sweep](const std::vector<std::string>& overrides) {
+  c.run = [folder = c.name](const std::vector<std::string>& overrides) {
     static const experiment::ExperimentExtensions extensions = [] {
       experiment::ExperimentExtensions e = coevaluation::experiment_extensions();
       for (auto& x : experiment::channel_sweep_extensions()) e.push_back(std::move(x));
@@ -326,7 +330,7 @@ Context experiment_context(const std::string& sweep, const Assignments& tiny) {
     }();
     apps::ExperimentOptions o;
     o.overrides = overrides;
-    o.out_dir = (scratch(sweep) / "run").string();
+    o.out_dir = (scratch(folder) / "run").string();
     o.replace = true;
     std::ostringstream out, err;
     Outcome r;
@@ -420,6 +424,11 @@ const std::vector<Context>& contexts() {
   static const std::vector<Context> all = {
       experiment_context(experiment::kSweepSigmaLoc,
                          {{"experiment.sigma_loc_values_m", "0.05"}, {"errors.sigma_act_m", "0.05"}, {"bf.stall_window", "3"}}),
+      // Only GD: the [bf] and [ura] keys are refused.
+      experiment_context(experiment::kSweepSigmaLoc,
+                         {{"experiment.sigma_loc_values_m", "0.05"}, {"errors.sigma_act_m", "0.05"},
+                          {"experiment.algorithms", "gd"}},
+                         "sigma_loc_m_gd_only"),
       experiment_context(experiment::kSweepSigmaAct,
                          {{"experiment.sigma_act_values_m", "0.1"}, {"errors.sigma_loc_m", "0.05"}, {"bf.stall_window", "3"}}),
       experiment_context(experiment::kSweepRicianK, {{"experiment.rician_k_db_values", "30"}, {"bf.stall_window", "3"},
@@ -466,7 +475,8 @@ TEST_P(EverySettingActs, EachKey_ChangesTheResultsOrIsRefused) {
   ASSERT_FALSE(tiny.result.empty());
   std::vector<std::string> acts, refused, waiting;
   for (const TableKey& k : every_key()) {
-    // A key that needs another key's value is tried with it.
+    // A key that needs another key's value is tried with it; one that the app refuses without
+    // that value is tried without it first.
     Assignments base = c.tiny;
     Outcome before = tiny;
     for (const Condition& condition : kConditions) {
@@ -476,6 +486,11 @@ TEST_P(EverySettingActs, EachKey_ChangesTheResultsOrIsRefused) {
         // A condition the context refuses (its key unused there) leaves the key to be tried as it is.
         if (o.code == 2) continue;
         ASSERT_EQ(o.code, 0) << c.name << ": " << k.name << "'s condition: " << o.err;
+        if (condition.refused_without) {
+          const Judgement without = judge(c, c.tiny, tiny, k);
+          EXPECT_EQ(without.verdict, Verdict::kRefused)
+              << c.name << ": " << k.name << " without " << condition.given.front().first << ": " << without.detail;
+        }
         base = given;
         before = o;
       }
