@@ -118,9 +118,9 @@ const std::vector<UnusedKeys>& unused_keys() {
        {kRecord, kBeaconOutage},
        "the closed loop's BF fallback reads [bf] step, decay, contraction and min_step_m only"},
       {{"bf.target_icn", "bf.max_iterations"}, {kBeaconOutage}, "the sweep has no BF rows"},
-      {{"gd.target_icn", "gd.max_iterations", "bf.target_icn", "bf.max_iterations"},
+      {{"bf.target_icn", "bf.max_iterations"},
        {kRecord},
-       "the mission stops by [placement] target_icn and max_iterations"},
+       "the mission's BF is the closed loop's fallback: the run stops by the closed loop's (GD's) stop rule"},
       {{"placement.stop_on"},
        {kRecord, kBeaconOutage},
        "the closed loop's planner has no believed positions for the stop test: its runs stop on the measured "
