@@ -133,6 +133,8 @@ struct Regime {
 };
 const std::vector<Regime> kRegimes = {
     {"a run that does not converge", {{"placement.target_icn", "1"}}},
+    {"a low target ICN, which the planners reach", {{"placement.target_icn", "0.7"}}},
+    {"a high target ICN below 1 (centralized needs one)", {{"placement.target_icn", "0.99"}}},
     {"a long run that does not converge", {{"placement.target_icn", "1"}, {"placement.max_iterations", "200"}}},
     {"GD steps that overshoot", {{"gd.step", "5"}}},
     {"GD steps that overshoot more", {{"gd.step", "50"}, {"placement.target_icn", "1"}}},
@@ -216,7 +218,8 @@ const std::vector<Value> kValues = {
 
 // ([context, key]) Ignored today; they act once the co-evaluation builds its planners with the
 // experiment's construction and stop rules (placement::with_override, experiment's
-// run_options_of) and gives ura_ekf the [ura] options. Remove this list with that change.
+// run_options_of), gives ura_ekf the [ura] options and runs the closed loop under [gd]'s stop
+// rule. Remove this list with that change.
 const std::set<std::pair<std::string, std::string>> kFixedByCoevaluationPlannerConstruction = {
     {coevaluation::kSweepBeaconNoise, "gd.target_icn"},     {coevaluation::kSweepBeaconNoise, "gd.max_iterations"},
     {coevaluation::kSweepBeaconNoise, "bf.target_icn"},     {coevaluation::kSweepBeaconNoise, "bf.max_iterations"},
@@ -224,6 +227,8 @@ const std::set<std::pair<std::string, std::string>> kFixedByCoevaluationPlannerC
     {coevaluation::kSweepBeaconNoise, "ura.spacing_multiple"}, {coevaluation::kSweepBeaconNoise, "ura.depth"},
     {coevaluation::kSweepBeaconNoise, "ura.retry"},
     {coevaluation::kSweepBeaconOutage, "gd.target_icn"},    {coevaluation::kSweepBeaconOutage, "gd.max_iterations"},
+    // The closed loop under [gd]'s stop rule (fusion::run_closed_loop), which the mission runs too.
+    {"record", "gd.target_icn"},                            {"record", "gd.max_iterations"},
 };
 
 enum class Verdict { kActs, kRefused, kAccepted, kIgnored, kFailed };
