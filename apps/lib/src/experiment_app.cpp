@@ -51,6 +51,9 @@ ExperimentSettings load_settings(const ExperimentOptions& options, const Experim
   for (const Algorithm a : settings.algorithms) use.algorithms.push_back(to_string(a));
   use.fading = settings.placement.channel.fading();
   use.readings = !settings.readings.empty();
+  for (const ExperimentExtension& e : extensions) {
+    if (e.unused_conditions && settings.sweep(e.sweep)) use.sweep_conditions[e.sweep] = e.unused_conditions(settings);
+  }
   refuse_unused_overrides(config, options.overrides, experiment_users(use));
   return settings;
 }

@@ -108,6 +108,16 @@ const std::vector<UnusedKeys>& unused_keys() {
       {{"closed_loop.window_epochs", "closed_loop.use_csi"},
        {kNoRefinement},
        "the Ceres refinement's settings (set [closed_loop] refine = true)"},
+      // The co-evaluation's algorithms that some keys serve alone (coevaluation/extensions.cpp).
+      {{"closed_loop.num_particles"},
+       {"no gd_pf in [coevaluation] algorithms", "no gd_pf in [coevaluation] outage_algorithms"},
+       "the particle filter's size: only gd_pf runs one"},
+      {{"closed_loop.window_epochs", "closed_loop.use_csi"},
+       {"no gd_ekf_ceres in [coevaluation] algorithms", "no gd_ekf_ceres in [coevaluation] outage_algorithms"},
+       "the refinement's settings: only gd_ekf_ceres refines"},
+      {{"ura.*", "coevaluation.ura_variant"},
+       {"no ura_ekf in [coevaluation] algorithms"},
+       "the URA's settings: only ura_ekf runs one"},
       // The closed loop (losmimo-record, and every beacon_outage row) plans with GD, and BF for a
       // UAV whose belief is degraded (fusion/closed_loop.h).
       {{"ura.*"}, {kRecord, kBeaconOutage}, "no URA runs (the closed loop plans with GD and BF)"},
@@ -162,6 +172,9 @@ std::vector<KeyUser> experiment_users(const ExperimentUse& use) {
     }
     if (!use.fading && sweep != kRicianK) u.conditions.push_back(kLosChannel);
     if (!use.readings) u.conditions.push_back(kNoReadings);
+    if (const auto more = use.sweep_conditions.find(sweep); more != use.sweep_conditions.end()) {
+      u.conditions.insert(u.conditions.end(), more->second.begin(), more->second.end());
+    }
     users.push_back(std::move(u));
   }
   return users;

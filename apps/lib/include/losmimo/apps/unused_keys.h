@@ -13,6 +13,7 @@
 // tests/apps/every_setting_acts_test.cpp runs every key in every app and sweep: each either
 // changes the results or is refused.
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,8 @@ struct ExperimentUse {
   std::vector<std::string> algorithms;  // [experiment] algorithms
   bool fading = false;                  // [channel] rician_k_db finite
   bool readings = false;
+  // Per sweep, the conditions its extension reports (ExperimentExtension::unused_conditions).
+  std::map<std::string, std::vector<std::string>> sweep_conditions;
 };
 std::vector<KeyUser> experiment_users(const ExperimentUse& use);
 
