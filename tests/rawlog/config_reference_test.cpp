@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "losmimo/apps/unused_keys.h"
 #include "losmimo/coevaluation/coevaluation.h"
 #include "losmimo/experiment/channel_sweeps.h"
 #include "losmimo/experiment/settings.h"
@@ -36,7 +37,16 @@ std::string reference() {
          experiment::channel_sweep_keys().markdown() +
          "\n## Closed loop (`losmimo-record`, and the co-evaluation's shared settings)\n\n" +
          fusion::closed_loop_keys().markdown() + "\n## Mission (`losmimo-record`)\n\n" +
-         rawlog::mission_keys().markdown();
+         rawlog::mission_keys().markdown() +
+         "\n## Keys an app or sweep does not use\n\n"
+         "A key given with `--set` that the run does not use is refused (exit 2), naming the key and "
+         "why: for `losmimo-experiment` when none of the run's sweeps uses it. A user (an app or a "
+         "sweep) leaves a key unused by its name or by a condition of the run (e.g. no gd in "
+         "`[experiment] algorithms`) in the \"not used by\" column. A `--config` file may "
+         "hold them (one file serves every app, e.g. `datasets/configs/paper.ini`). Sections an app "
+         "does not know at all (e.g. `[mission]` in `losmimo-experiment`) are refused as unknown "
+         "wherever they are given.\n\n" +
+         apps::unused_keys_markdown();
 }
 
 TEST(ConfigReference, DocsPage_IsTheKeyTables) {

@@ -5,6 +5,7 @@
 #include <ostream>
 
 #include "losmimo/apps/exit_codes.h"
+#include "losmimo/apps/unused_keys.h"
 #include "losmimo/common/ini_config.h"
 #include "losmimo/experiment/extension.h"
 #include "losmimo/placement/channel.h"
@@ -62,6 +63,7 @@ int run_eval_app(const EvalOptions& options, std::ostream& out, std::ostream& er
     if (config.has_section("experiment")) experiment::load_experiment_settings(config);
     const PlacementSettings settings = load_placement_settings(config);
     require_los_channel(settings.channel, config, "losmimo-eval");
+    refuse_unused_overrides(config, options.overrides, {{"losmimo-eval", {}}});
     const Eigen::Matrix3Xd q_m = read_positions_csv(options.positions_path);
     const ChannelModel model(settings.scenario);
     for (Eigen::Index n = 0; n < q_m.cols(); ++n) {

@@ -12,6 +12,7 @@
 
 #include "experiment_common.h"
 #include "losmimo/apps/exit_codes.h"
+#include "losmimo/apps/unused_keys.h"
 #include "losmimo/common/atomic_file.h"
 #include "losmimo/common/format.h"
 #include "losmimo/common/ini_config.h"
@@ -43,7 +44,18 @@ ExperimentSettings load_settings(const ExperimentOptions& options, const Experim
   // Named after their option in messages, not "--set".
   if (options.trials > 0) config.set("experiment", "trials", std::to_string(options.trials), "--trials");
   if (options.threads >= 0) config.set("experiment", "threads", std::to_string(options.threads), "--threads");
-  return load_experiment_settings(config, extensions);
+  ExperimentSettings settings = load_experiment_settings(config, extensions);
+  // A --set key that none of the run's sweeps uses is refused (unused_keys.h).
+  ExperimentUse use;
+  for (const SweepPoints& s : settings.sweeps) use.sweeps.push_back(s.name);
+  for (const Algorithm a : settings.algorithms) use.algorithms.push_back(to_string(a));
+  use.fading = settings.placement.channel.fading();
+  use.readings = !settings.readings.empty();
+  for (const ExperimentExtension& e : extensions) {
+    if (e.unused_conditions && settings.sweep(e.sweep)) use.sweep_conditions[e.sweep] = e.unused_conditions(settings);
+  }
+  refuse_unused_overrides(config, options.overrides, experiment_users(use));
+  return settings;
 }
 
 int threads_of(const ExperimentSettings& settings) {

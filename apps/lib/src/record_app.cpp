@@ -7,6 +7,7 @@
 #include <set>
 
 #include "losmimo/apps/exit_codes.h"
+#include "losmimo/apps/unused_keys.h"
 #include "losmimo/coevaluation/extensions.h"
 #include "losmimo/common/ini_config.h"
 #include "losmimo/common/staged_output.h"
@@ -39,6 +40,10 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
     std::set<std::string> experiment_sections;
     for (const auto& [section, keys] : experiment::experiment_config_keys(extensions)) experiment_sections.insert(section);
     if (ini.has_section("experiment")) experiment::load_experiment_settings(ini.subset(experiment_sections), extensions);
+    KeyUser record{"losmimo-record", {}};
+    if (config.closed_loop.filter_kind == localization::FilterKind::kEkf) record.conditions.push_back(kEkfFilter);
+    if (!config.closed_loop.refine) record.conditions.push_back(kNoRefinement);
+    refuse_unused_overrides(ini, options.overrides, {record});
     if (options.out_path.empty()) throw common::InputError("--out: an output file is required");
     kernel_isa_name();  // a bad LOSMIMO_ISA stops here, exit code 2
     staged.emplace(common::StagedFile::create(options.out_path, options.replace));

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "losmimo/coevaluation/coevaluation.h"
+#include "losmimo/common/format.h"
 #include "losmimo/common/ini_config.h"
 #include "losmimo/common/input_error.h"
 #include "losmimo/fusion/closed_loop_settings.h"
@@ -154,6 +155,14 @@ CoevaluationSettings load_coevaluation_settings(const experiment::ExperimentSett
   keys.load(cfg, c);
   if (settings.sweep(kSweepBeaconNoise) || settings.sweep(kSweepBeaconOutage)) {
     placement::require_los_channel(settings.placement.channel, cfg, "co-evaluation");
+  }
+  // centralized solves eq. 4 for its target ICN alpha, which must be below 1 (fusion/centralized.h).
+  const bool has_centralized = std::find(c.algorithms.begin(), c.algorithms.end(), CoevalAlgorithm::kCentralized) !=
+                               c.algorithms.end();
+  if (settings.sweep(kSweepBeaconNoise) && has_centralized && !(settings.placement.run.target_icn < 1.0)) {
+    throw InputError(cfg.where("placement", "target_icn") + ": " +
+                     common::format_double(settings.placement.run.target_icn) +
+                     ": the beacon_noise_m sweep's centralized solution needs a target ICN below 1");
   }
   keys.check(cfg, "", [&] {
     // The shared closed-loop settings by the closed loop's own rules.

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "losmimo/experiment/extension.h"
+#include "losmimo/experiment/report.h"
 #include "losmimo/placement/swarm.h"
 
 namespace losmimo::experiment {
@@ -233,6 +234,18 @@ ExperimentSettings load_experiment_settings(const common::IniConfig& cfg, const 
       std::string known = kSweepSigmaLoc + ", " + kSweepSigmaAct;
       for (const ExperimentExtension& e : extensions) known += ", " + e.sweep;
       throw common::FieldError("sweeps", "unknown sweep '" + sweep.name + "' (known: " + known + ")");
+    }
+    // Readings are measured at the paper's values only (report.h): a run without any of their
+    // sweep points and algorithms would measure nothing.
+    const auto measurable = [&s](const PaperValue& p) {
+      const SweepPoints* points = s.sweep(p.sweep);
+      return points && std::any_of(points->values.begin(), points->values.end(), [&](double v) { return v == p.value; }) &&
+             std::any_of(s.algorithms.begin(), s.algorithms.end(), [&](Algorithm a) { return to_string(a) == p.algorithm; });
+    };
+    const std::vector<PaperValue> paper = paper_values();
+    if (!s.readings.empty() && std::none_of(paper.begin(), paper.end(), measurable)) {
+      throw common::FieldError("readings", "measured at the paper's values only (sweep sigma_loc_m or sigma_act_m at "
+                                           "a point such as 0, with random, gd, bf or ura): this run has none of them");
     }
     const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
     const auto ura = std::find_if(s.algorithms.begin(), s.algorithms.end(), [](Algorithm a) {

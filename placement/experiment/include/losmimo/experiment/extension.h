@@ -35,6 +35,10 @@ struct ExperimentExtension {
                                           const std::string& out_dir)>
       figures;
   std::function<std::string(const ExperimentSettings&, const std::vector<SummaryRow>&)> report_section;
+  // Optional: the conditions of this run under which parts of the sweep do not run (e.g. "no
+  // gd_pf in [coevaluation] algorithms"), named as the apps' table of unused keys names them
+  // (apps/unused_keys.h), which refuses a --set key that only those parts read.
+  std::function<std::vector<std::string>(const ExperimentSettings&)> unused_conditions;
 };
 using ExperimentExtensions = std::vector<ExperimentExtension>;
 
