@@ -49,151 +49,203 @@ void link_metrics(const placement::ChannelModel& model, double noise_variance, c
   row.sum_rate_zf_bps_hz = l.sum_rate_zf_bps_hz;
 }
 
+// One epoch's positions and errors, gathered UAV by UAV.
+struct EpochColumns {
+  Eigen::Matrix3Xd truth_m, estimate_m;  // 3 x Nr
+  bool all_truth = true;
+  localization::ErrorAccumulator errors;
+};
+
+// One replay of a mission log: the per-UAV estimators (fusion::UavEstimator, as the closed loop
+// runs them), the beliefs silent UAVs hold, and the sums over the epochs.
+class MissionReplay {
+ public:
+  MissionReplay(const MissionLog& log, const ReplayOptions& options);
+  ReplayResult run();
+
+ private:
+  ReplayEpochMetrics epoch(int k);
+  ReplayUavEpoch uav_epoch(int k, int m, EpochColumns& columns, ReplayEpochMetrics& row);
+  void compare_with_log(const LoggedUavEpoch& in, const localization::Belief& filtered,
+                        const localization::Belief& belief);
+  void epoch_metrics(const EpochColumns& columns, ReplayEpochMetrics& row);
+  void add_final_positions();
+
+  const MissionLog& log_;
+  const MissionConfig config_;
+  const placement::Scenario& scenario_;  // config_'s
+  fusion::ClosedLoopConfig cl_;          // with the options' estimator and refinement
+  const int nr_;
+  const placement::ChannelModel model_;
+  std::vector<fusion::UavEstimator> uavs_;
+  std::vector<localization::Belief> held_filtered_, held_belief_;  // silent UAVs keep these
+  localization::ErrorAccumulator errors_, filter_errors_;
+  double icn_sum_ = 0.0;
+  int icn_epochs_ = 0;
+  ReplayResult out_;
+};
+
+MissionReplay::MissionReplay(const MissionLog& log, const ReplayOptions& options)
+    : log_(log),
+      config_(log.config ? *log.config : MissionConfig{}),
+      scenario_(config_.placement.scenario),
+      cl_(config_.closed_loop),
+      nr_(log.num_uavs),
+      model_(scenario_),
+      held_filtered_(nr_),
+      held_belief_(nr_) {
+  const localization::FilterKind recorded_kind = cl_.filter_kind;
+  const bool recorded_refine = cl_.refine;
+  cl_.filter_kind = options.estimator.value_or(recorded_kind);
+  cl_.refine = options.refine.value_or(recorded_refine);
+  out_.estimator = localization::to_string(cl_.filter_kind) + (cl_.refine ? "+ceres" : "");
+  out_.same_as_recorded = log.ours && cl_.filter_kind == recorded_kind && cl_.refine == recorded_refine;
+
+  const fusion::EstimatorConfig estimator{cl_.filter_kind, cl_.filter, cl_.refine, cl_.refinement};
+  const localization::Belief prior = localization::start_cube_prior(scenario_, cl_.filter);
+  for (int m = 0; m < nr_; ++m) {
+    const std::uint64_t seed = m < static_cast<int>(log.filter_seeds.size()) ? log.filter_seeds[m] : m;
+    uavs_.emplace_back(scenario_, estimator, prior, seed);
+  }
+}
+
+ReplayResult MissionReplay::run() {
+  const int num_epochs = static_cast<int>(log_.epochs.size());
+  for (int k = 0; k < num_epochs; ++k) out_.epochs.push_back(epoch(k));
+  out_.mean_icn = icn_epochs_ > 0 ? icn_sum_ / icn_epochs_ : kNan;
+  add_final_positions();
+  out_.final_icn = out_.epochs.back().icn;
+  out_.final_sinr_zf_db = out_.epochs.back().sinr_zf_db;
+  out_.rmse_m = errors_.rmse_m();
+  out_.lateral_rmse_m = errors_.lateral_rmse_m();
+  out_.average_nees = errors_.average_nees();
+  out_.filter_rmse_m = filter_errors_.rmse_m();
+  return std::move(out_);
+}
+
+ReplayEpochMetrics MissionReplay::epoch(int k) {
+  ReplayEpochMetrics row;
+  row.epoch = k;
+  EpochColumns columns{Eigen::Matrix3Xd(3, nr_), Eigen::Matrix3Xd(3, nr_), true, {}};
+  for (int m = 0; m < nr_; ++m) out_.estimates.push_back(uav_epoch(k, m, columns, row));
+  errors_ += columns.errors;
+  epoch_metrics(columns, row);
+  out_.silent_uav_epochs += row.silent_uavs;
+  out_.fallback_uav_epochs += row.fallback_uavs;
+  if (row.fallback_uavs > 0) ++out_.fallback_epochs;
+  return row;
+}
+
+ReplayUavEpoch MissionReplay::uav_epoch(int k, int m, EpochColumns& columns, ReplayEpochMetrics& row) {
+  static const LoggedUavEpoch kNothing;  // foreign rows are ragged (log.cpp)
+  const LoggedUavEpoch& in = m < static_cast<int>(log_.epochs[k].size()) ? log_.epochs[k][m] : kNothing;
+  // Ours: nothing arrived from the UAV in this epoch; the loop kept its belief (fusion/src/closed_loop.cpp).
+  const bool silent = log_.ours && k > 0 && !in.reported;
+  // Ours: '-' = the UAV was not commanded in iteration k + 1 (silent, or the run stopped).
+  const bool commanded = !(log_.ours && k < static_cast<int>(log_.modes.size()) &&
+                           static_cast<int>(log_.modes[k].size()) == nr_ && log_.modes[k][m] == '-');
+  std::optional<localization::BeaconMeasurement> z;  // as the estimator consumed it
+  localization::Belief filtered = held_filtered_[m], belief = held_belief_[m];
+  if (!silent) {
+    fusion::EpochMeasurements measurements{in.displacement_m, in.beacon, {}};
+    if (in.csi) measurements.csi.push_back(*in.csi);
+    const fusion::EpochEstimate est = k == 0 ? uavs_[m].start(std::move(measurements))
+                                             : uavs_[m].step(std::move(measurements));
+    filtered = est.filter_belief;
+    belief = est.belief;
+    z = est.beacon;
+  }
+  held_filtered_[m] = filtered;
+  held_belief_[m] = belief;
+  compare_with_log(in, filtered, belief);
+
+  ReplayUavEpoch est;
+  est.epoch = k;
+  est.uav = m;
+  est.filter_belief = filtered;
+  est.belief = belief;
+  est.silent = silent;
+  est.has_beacon = z.has_value();
+  if (silent) ++row.silent_uavs;
+  if (z) {
+    ++out_.num_beacons;
+    ++row.beacons;
+    if (!in.beacon_exact) ++out_.num_inexact_beacons;
+  }
+  if (belief.degraded && cl_.fallback_to_bf && commanded) ++row.fallback_uavs;
+  columns.estimate_m.col(m) = belief.mean_m;
+  if (in.truth_m) {
+    est.has_truth = true;
+    est.truth_m = *in.truth_m;
+    columns.truth_m.col(m) = *in.truth_m;
+    const Eigen::Vector3d e = belief.mean_m - *in.truth_m;
+    est.error_m = e.norm();
+    est.lateral_error_m = e.tail<2>().norm();
+    est.nees = localization::nees(belief, *in.truth_m);
+    columns.errors.add(belief, *in.truth_m);
+    filter_errors_.add(filtered.mean_m, *in.truth_m);
+  } else {
+    columns.all_truth = false;
+  }
+  return est;
+}
+
+// With the recorded estimator: the replayed beliefs against the logged ones.
+void MissionReplay::compare_with_log(const LoggedUavEpoch& in, const localization::Belief& filtered,
+                                     const localization::Belief& belief) {
+  if (!out_.same_as_recorded) return;
+  if (in.filter_belief) {
+    ++out_.filter_beliefs_compared;
+    if (bitwise_equal(filtered, *in.filter_belief)) ++out_.filter_beliefs_bitwise_equal;
+  }
+  if (!cl_.refine || !in.refined_belief) return;
+  ++out_.refined_beliefs_compared;
+  if (bitwise_equal(belief, *in.refined_belief)) ++out_.refined_beliefs_bitwise_equal;
+  if (std::memcmp(belief.mean_m.data(), in.refined_belief->mean_m.data(), 3 * sizeof(double)) == 0)
+    ++out_.refined_means_bitwise_equal;
+  const double scale = in.refined_belief->cov_m2.cwiseAbs().maxCoeff();
+  if (scale > 0.0) {
+    const Eigen::Matrix3d diff = (belief.cov_m2 - in.refined_belief->cov_m2).triangularView<Eigen::Upper>();
+    out_.refined_cov_max_rel_diff = std::max(out_.refined_cov_max_rel_diff, diff.cwiseAbs().maxCoeff() / scale);
+  }
+}
+
+// The epoch's errors, and its link metrics at the true and estimated positions when every
+// UAV's truth is known (nan otherwise).
+void MissionReplay::epoch_metrics(const EpochColumns& columns, ReplayEpochMetrics& row) {
+  row.rmse_m = columns.errors.rmse_m();
+  row.lateral_rmse_m = columns.errors.lateral_rmse_m();
+  row.mean_nees = columns.errors.average_nees();
+  if (!columns.all_truth) {
+    row.icn = row.icn_estimated = row.sinr_nv_db = row.sinr_zf_db = row.sinr_mf_db = kNan;
+    row.sum_rate_zf_bps_hz = kNan;
+    return;
+  }
+  link_metrics(model_, scenario_.noise_variance(), columns.truth_m, row);
+  ReplayEpochMetrics est_row;
+  link_metrics(model_, scenario_.noise_variance(), columns.estimate_m, est_row);
+  row.icn_estimated = est_row.icn;
+  icn_sum_ += row.icn;
+  ++icn_epochs_;
+}
+
+// The positions after the last iteration, when the log has them: link metrics only.
+void MissionReplay::add_final_positions() {
+  if (!log_.final_truth_m || log_.final_truth_m->cols() != nr_) return;
+  ReplayEpochMetrics row;
+  row.epoch = *log_.final_truth_epoch;
+  row.final_positions = true;
+  link_metrics(model_, scenario_.noise_variance(), *log_.final_truth_m, row);
+  row.icn_estimated = row.rmse_m = row.lateral_rmse_m = row.mean_nees = kNan;
+  out_.epochs.push_back(row);
+}
+
 }  // namespace
 
 ReplayResult replay_mission(const MissionLog& log, const ReplayOptions& options) {
   if (log.num_uavs == 0 || log.epochs.empty())
     throw common::InputError("rawlog holds no epoch of any UAV: nothing to replay");
-  const MissionConfig config = log.config ? *log.config : MissionConfig{};
-  const placement::Scenario& scenario = config.placement.scenario;
-  fusion::ClosedLoopConfig cl = config.closed_loop;
-  const localization::FilterKind recorded_kind = cl.filter_kind;
-  const bool recorded_refine = cl.refine;
-  cl.filter_kind = options.estimator.value_or(recorded_kind);
-  cl.refine = options.refine.value_or(recorded_refine);
-
-  ReplayResult out;
-  out.estimator = localization::to_string(cl.filter_kind) + (cl.refine ? "+ceres" : "");
-  out.same_as_recorded = log.ours && cl.filter_kind == recorded_kind && cl.refine == recorded_refine;
-
-  const int nr = log.num_uavs;
-  const int num_epochs = static_cast<int>(log.epochs.size());
-  const fusion::EstimatorConfig estimator{cl.filter_kind, cl.filter, cl.refine, cl.refinement};
-  const localization::Belief prior = localization::start_cube_prior(scenario, cl.filter);
-  std::vector<fusion::UavEstimator> uavs;
-  for (int m = 0; m < nr; ++m) {
-    const std::uint64_t seed = m < static_cast<int>(log.filter_seeds.size()) ? log.filter_seeds[m] : m;
-    uavs.emplace_back(scenario, estimator, prior, seed);
-  }
-  const placement::ChannelModel model(scenario);
-  std::vector<localization::Belief> held_filtered(nr), held_belief(nr);  // silent UAVs keep these
-  localization::ErrorAccumulator errors, filter_errors;
-  double icn_sum = 0.0;
-  int icn_epochs = 0;
-
-  for (int k = 0; k < num_epochs; ++k) {
-    ReplayEpochMetrics row;
-    row.epoch = k;
-    Eigen::Matrix3Xd truth(3, nr), estimate(3, nr);
-    bool all_truth = true;
-    localization::ErrorAccumulator epoch_errors;
-    for (int m = 0; m < nr; ++m) {
-      static const LoggedUavEpoch kNothing;  // foreign rows are ragged (log.cpp)
-      const LoggedUavEpoch& in = m < static_cast<int>(log.epochs[k].size()) ? log.epochs[k][m] : kNothing;
-      // Ours: nothing arrived from the UAV in this epoch; the loop kept its belief (fusion/src/closed_loop.cpp).
-      const bool silent = log.ours && k > 0 && !in.reported;
-      // Ours: '-' = the UAV was not commanded in iteration k + 1 (silent, or the run stopped).
-      const bool commanded = !(log.ours && k < static_cast<int>(log.modes.size()) &&
-                               static_cast<int>(log.modes[k].size()) == nr && log.modes[k][m] == '-');
-      std::optional<localization::BeaconMeasurement> z;  // as the estimator consumed it
-      localization::Belief filtered = held_filtered[m], belief = held_belief[m];
-      if (!silent) {
-        fusion::EpochMeasurements measurements{in.displacement_m, in.beacon, {}};
-        if (in.csi) measurements.csi.push_back(*in.csi);
-        const fusion::EpochEstimate est = k == 0 ? uavs[m].start(std::move(measurements))
-                                                 : uavs[m].step(std::move(measurements));
-        filtered = est.filter_belief;
-        belief = est.belief;
-        z = est.beacon;
-      }
-      held_filtered[m] = filtered;
-      held_belief[m] = belief;
-      if (out.same_as_recorded && in.filter_belief) {
-        ++out.filter_beliefs_compared;
-        if (bitwise_equal(filtered, *in.filter_belief)) ++out.filter_beliefs_bitwise_equal;
-      }
-      if (out.same_as_recorded && cl.refine && in.refined_belief) {
-        ++out.refined_beliefs_compared;
-        if (bitwise_equal(belief, *in.refined_belief)) ++out.refined_beliefs_bitwise_equal;
-        if (std::memcmp(belief.mean_m.data(), in.refined_belief->mean_m.data(), 3 * sizeof(double)) == 0)
-          ++out.refined_means_bitwise_equal;
-        const double scale = in.refined_belief->cov_m2.cwiseAbs().maxCoeff();
-        if (scale > 0.0) {
-          out.refined_cov_max_rel_diff = std::max(
-              out.refined_cov_max_rel_diff,
-              (belief.cov_m2 - in.refined_belief->cov_m2).triangularView<Eigen::Upper>().toDenseMatrix().cwiseAbs().maxCoeff() / scale);
-        }
-
-      }
-
-      ReplayUavEpoch est;
-      est.epoch = k;
-      est.uav = m;
-      est.filter_belief = filtered;
-      est.belief = belief;
-      est.silent = silent;
-      est.has_beacon = z.has_value();
-      if (silent) ++row.silent_uavs;
-      if (z) {
-        ++out.num_beacons;
-        ++row.beacons;
-        if (!in.beacon_exact) ++out.num_inexact_beacons;
-      }
-      if (belief.degraded && cl.fallback_to_bf && commanded) ++row.fallback_uavs;
-      estimate.col(m) = belief.mean_m;
-      if (in.truth_m) {
-        est.has_truth = true;
-        est.truth_m = *in.truth_m;
-        truth.col(m) = *in.truth_m;
-        const Eigen::Vector3d e = belief.mean_m - *in.truth_m;
-        est.error_m = e.norm();
-        est.lateral_error_m = e.tail<2>().norm();
-        est.nees = localization::nees(belief, *in.truth_m);
-        epoch_errors.add(belief, *in.truth_m);
-        filter_errors.add(filtered.mean_m, *in.truth_m);
-      } else {
-        all_truth = false;
-      }
-      out.estimates.push_back(est);
-    }
-    errors += epoch_errors;
-    row.rmse_m = epoch_errors.rmse_m();
-    row.lateral_rmse_m = epoch_errors.lateral_rmse_m();
-    row.mean_nees = epoch_errors.average_nees();
-    if (all_truth) {
-      link_metrics(model, scenario.noise_variance(), truth, row);
-      ReplayEpochMetrics est_row;
-      link_metrics(model, scenario.noise_variance(), estimate, est_row);
-      row.icn_estimated = est_row.icn;
-    } else {
-      row.icn = row.icn_estimated = row.sinr_nv_db = row.sinr_zf_db = row.sinr_mf_db = kNan;
-      row.sum_rate_zf_bps_hz = kNan;
-    }
-    if (all_truth) {
-      icn_sum += row.icn;
-      ++icn_epochs;
-    }
-    out.silent_uav_epochs += row.silent_uavs;
-    out.fallback_uav_epochs += row.fallback_uavs;
-    if (row.fallback_uavs > 0) ++out.fallback_epochs;
-    out.epochs.push_back(row);
-  }
-  out.mean_icn = icn_epochs > 0 ? icn_sum / icn_epochs : kNan;
-  if (log.final_truth_m && log.final_truth_m->cols() == nr) {
-    ReplayEpochMetrics row;
-    row.epoch = *log.final_truth_epoch;
-    row.final_positions = true;
-    link_metrics(model, scenario.noise_variance(), *log.final_truth_m, row);
-    row.icn_estimated = row.rmse_m = row.lateral_rmse_m = row.mean_nees = kNan;
-    out.epochs.push_back(row);
-  }
-  out.final_icn = out.epochs.back().icn;
-  out.final_sinr_zf_db = out.epochs.back().sinr_zf_db;
-  out.rmse_m = errors.rmse_m();
-  out.lateral_rmse_m = errors.lateral_rmse_m();
-  out.average_nees = errors.average_nees();
-  out.filter_rmse_m = filter_errors.rmse_m();
-  return out;
+  return MissionReplay(log, options).run();
 }
 
 std::vector<std::pair<std::string, std::string>> replay_summary_rows(const MissionLog& log, const ReplayResult& r,
