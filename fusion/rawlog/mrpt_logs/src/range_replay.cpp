@@ -162,31 +162,35 @@ std::string nothing_to_fuse(const RangeLog& log, const BeaconMap& beacons) {
   return s.str();
 }
 
-}  // namespace
-
-RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, const RangeReplayOptions& options) {
-  if (const std::string why = nothing_to_fuse(log, beacons); !why.empty()) throw common::InputError(why);
-  validate(options.config);
-  if (options.refine) fusion::validate(*options.refine);
-  RangeReplayResult out;
-  out.estimator = to_string(options.estimator);
-  out.settle_steps = options.settle_steps;
-  const PosePrior prior = options.prior ? *options.prior : PosePrior(beacon_box(beacons));
-  out.prior_description = describe(prior);
-
-  const RangeFrame& first = log.frames.front();
-  const InitialPose start = initial_pose(first.scans, beacons, options.config, prior);
-  // Without a fix, frame 0's readings are counted by the filter's first step() instead.
-  if (start.fix) {
-    out.counters += start.counters;
-    out.fused_in_fix = start.counters.ranges_fused;
+// The frame's odometry for the filter: its own, or (after frame 0) the no-odometry random walk.
+OdometryIncrement frame_increment(const RangeFrame& frame, std::size_t k, const RangeReplayOptions& options) {
+  OdometryIncrement u;
+  if (k > 0 && frame.has_odometry) {
+    u = frame.odometry;
+  } else if (k > 0) {
+    const double q = options.no_odometry_sigma_m * options.no_odometry_sigma_m;
+    u.cov.diagonal() << q, q, q, options.no_odometry_sigma_yaw_rad * options.no_odometry_sigma_yaw_rad;
   }
-  const std::unique_ptr<PoseFilter> filter =
-      make_pose_filter(options.estimator, options.config, beacons, start, options.seed);
+  return u;
+}
+
+// Ground-truth row `pair` in the map frame: origin (+) row (2-D), as ro-localization aligns it.
+Eigen::Vector3d truth_of_pair(const RangeReplayOptions& options, std::size_t pair) {
+  const Eigen::Vector3d& rel = options.ground_truth[pair];
+  const Eigen::Vector3d& o = options.ground_truth_origin;
+  const double c = std::cos(o(2)), sn = std::sin(o(2));
+  return Eigen::Vector3d(o(0) + c * rel(0) - sn * rel(1), o(1) + sn * rel(0) + c * rel(1),
+                         wrap_angle_rad(o(2) + rel(2)));
+}
+
+// Every frame through the filter (frame 0 already in it when it gave the start fix): one track
+// row each, with dead reckoning, truth and post-fit residuals; with refinement, the frames the
+// smoother will be given.
+void run_filter(const RangeLog& log, const BeaconMap& beacons, const RangeReplayOptions& options,
+                const InitialPose& start, PoseFilter& filter, RangeReplayResult& out,
+                std::vector<fusion::SmootherFrame>& smoother_frames) {
   Eigen::Vector4d dr = moments(start).mean;
   std::size_t pair = 0;  // (action, sensory frame) pairs so far: the ground-truth row index
-  std::vector<fusion::SmootherFrame> smoother_frames;  // what the filter was given, for refine()
-
   for (std::size_t k = 0; k < log.frames.size(); ++k) {
     const RangeFrame& frame = log.frames[k];
     RangeTrackRow row;
@@ -194,30 +198,20 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
     row.timestamp_s = frame.timestamp_s;
     for (const BeaconRangeScan& s : frame.scans) row.ranges += static_cast<int>(s.ranges.size());
     if (k == 0 && start.fix) {
-      row.belief = filter->belief();
+      row.belief = filter.belief();
       if (options.refine) smoother_frames.push_back({{}, frame.scans, {}});
     } else {
-      OdometryIncrement u;
-      if (k > 0 && frame.has_odometry) {
-        u = frame.odometry;
-      } else if (k > 0) {
-        const double q = options.no_odometry_sigma_m * options.no_odometry_sigma_m;
-        u.cov.diagonal() << q, q, q, options.no_odometry_sigma_yaw_rad * options.no_odometry_sigma_yaw_rad;
-      }
-      filter->step(u, frame.scans);
+      const OdometryIncrement u = frame_increment(frame, k, options);
+      filter.step(u, frame.scans);
       if (options.refine) smoother_frames.push_back({u, frame.scans, {}});
-      row.belief = filter->belief();
-      row.innovations = filter->last_innovations();
+      row.belief = filter.belief();
+      row.innovations = filter.last_innovations();
       if (k > 0 && frame.has_odometry) dr = compose(dr, frame.odometry.delta);
     }
     row.dead_reckoning = dr;
     if (frame.has_odometry && pair < options.ground_truth.size()) {
-      const Eigen::Vector3d& rel = options.ground_truth[pair];
-      const Eigen::Vector3d& o = options.ground_truth_origin;
-      const double c = std::cos(o(2)), sn = std::sin(o(2));
       row.has_truth = true;
-      row.truth = Eigen::Vector3d(o(0) + c * rel(0) - sn * rel(1), o(1) + sn * rel(0) + c * rel(1),
-                                  wrap_angle_rad(o(2) + rel(2)));
+      row.truth = truth_of_pair(options, pair);
       std::tie(row.error_m, row.nees) = error_and_nees(row.belief, row.truth);
       row.dr_error_m = (dr.head<2>() - row.truth.head<2>()).norm();
     }
@@ -227,8 +221,19 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
     if (options.refine) smoother_frames.back().filter_belief = row.belief;
     out.track.push_back(row);
   }
-  out.counters += filter->counters();
+}
 
+std::string no_range_fused(const FilterCounters& c) {
+  return "no range was fused: " + std::to_string(c.ranges_received) + " received, rejected: unknown beacon " +
+         std::to_string(c.rejected_unknown_beacon) + ", outside sensor limits " +
+         std::to_string(c.rejected_outside_sensor_limits) + ", non-finite " +
+         std::to_string(c.rejected_non_finite_range) + ", implausible " +
+         std::to_string(c.rejected_implausible_range) + ", gate " + std::to_string(c.rejected_range_gate);
+}
+
+// The summary figures over the track (innovations, residuals, errors against the truth).
+// Throws common::InputError when no range was fused.
+void summarize_track(const RangeReplayOptions& options, RangeReplayResult& out) {
   double innov_sq = 0.0, nis = 0.0, res_sq = 0.0, res_sq_settled = 0.0, err_sq = 0.0, nees = 0.0, dr_sq = 0.0;
   std::int64_t innov_n = 0;
   for (const RangeTrackRow& r : out.track) {
@@ -248,15 +253,7 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
       out.residuals_settled += r.residuals;
     }
   }
-  if (out.counters.ranges_fused == 0) {
-    throw common::InputError("no range was fused: " + std::to_string(out.counters.ranges_received) +
-                             " received, rejected: unknown beacon " +
-                             std::to_string(out.counters.rejected_unknown_beacon) + ", outside sensor limits " +
-                             std::to_string(out.counters.rejected_outside_sensor_limits) + ", non-finite " +
-                             std::to_string(out.counters.rejected_non_finite_range) + ", implausible " +
-                             std::to_string(out.counters.rejected_implausible_range) + ", gate " +
-                             std::to_string(out.counters.rejected_range_gate));
-  }
+  if (out.counters.ranges_fused == 0) throw common::InputError(no_range_fused(out.counters));
   out.innovation_rms_m = innov_n ? std::sqrt(innov_sq / static_cast<double>(innov_n)) : kNan;
   out.mean_nis = innov_n ? nis / static_cast<double>(innov_n) : kNan;
   out.residual_rms_m = out.residuals ? std::sqrt(res_sq / static_cast<double>(out.residuals)) : kNan;
@@ -266,6 +263,32 @@ RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, c
   out.rmse_m = out.truth_frames ? std::sqrt(err_sq / nt) : kNan;
   out.mean_nees = out.truth_frames ? nees / nt : kNan;
   out.dr_rmse_m = out.truth_frames ? std::sqrt(dr_sq / nt) : kNan;
+}
+
+}  // namespace
+
+RangeReplayResult replay_ranges(const RangeLog& log, const BeaconMap& beacons, const RangeReplayOptions& options) {
+  if (const std::string why = nothing_to_fuse(log, beacons); !why.empty()) throw common::InputError(why);
+  validate(options.config);
+  if (options.refine) fusion::validate(*options.refine);
+  RangeReplayResult out;
+  out.estimator = to_string(options.estimator);
+  out.settle_steps = options.settle_steps;
+  const PosePrior prior = options.prior ? *options.prior : PosePrior(beacon_box(beacons));
+  out.prior_description = describe(prior);
+
+  const InitialPose start = initial_pose(log.frames.front().scans, beacons, options.config, prior);
+  // Without a fix, frame 0's readings are counted by the filter's first step() instead.
+  if (start.fix) {
+    out.counters += start.counters;
+    out.fused_in_fix = start.counters.ranges_fused;
+  }
+  const std::unique_ptr<PoseFilter> filter =
+      make_pose_filter(options.estimator, options.config, beacons, start, options.seed);
+  std::vector<fusion::SmootherFrame> smoother_frames;  // what the filter was given, for refine()
+  run_filter(log, beacons, options, start, *filter, out, smoother_frames);
+  out.counters += filter->counters();
+  summarize_track(options, out);
   if (options.refine) refine(log, beacons, options, start.fix.has_value(), std::move(smoother_frames), out);
   return out;
 }
