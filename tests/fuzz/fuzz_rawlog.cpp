@@ -4,7 +4,7 @@
 //   1. strict (`--strict`: ForeignObjects::kStop): every object's lengths are checked before
 //      MRPT parses it in this process; classes the scanner cannot bound stop the read;
 //   2. as the replay reads by default (ForeignObjects::kSandbox): losmimo's own logs in this
-//      process, foreign logs through the sandbox's child process (sandbox.h), which may crash,
+//      process, foreign logs through the sandbox's child process (rawlog_io/sandbox.h), which may crash,
 //      run out of its memory or CPU limit: this process must not.
 // then load_mission_log, which interprets the objects (CONFIG, per-UAV streams, integrity marks,
 // foreign observations and actions).
@@ -25,22 +25,23 @@
 
 #include "losmimo/common/input_error.h"
 #include "losmimo/rawlog/log.h"
-#include "losmimo/rawlog/reader.h"
+#include "losmimo/rawlog_io/reader.h"
 
 namespace lr = losmimo::rawlog;
+namespace io = losmimo::rawlog_io;
 
 namespace {
 void require(bool ok) {
   if (!ok) __builtin_trap();
 }
 
-void check_contents(const lr::RawlogContents& contents, const lr::RawlogReaderOptions& options) {
-  require(contents.status.stop != lr::RawlogStop::kNone);
+void check_contents(const io::RawlogContents& contents, const io::RawlogReaderOptions& options) {
+  require(contents.status.stop != io::RawlogStop::kNone);
   require(contents.status.objects == static_cast<std::int64_t>(contents.objects.size()));
   require(!contents.status.describe().empty());
   std::int64_t index = 0;
   std::uint64_t offset = 0;
-  for (const lr::RawlogObject& o : contents.objects) {
+  for (const io::RawlogObject& o : contents.objects) {
     require(o.object != nullptr && !o.class_name.empty());
     require(o.bytes.size() <= options.max_object_bytes);
     require(o.index == index++);
@@ -49,11 +50,11 @@ void check_contents(const lr::RawlogContents& contents, const lr::RawlogReaderOp
   }
 }
 
-void interpret(const std::string& bytes, const lr::RawlogReaderOptions& options) {
+void interpret(const std::string& bytes, const io::RawlogReaderOptions& options) {
   try {
-    lr::RawlogReader reader = lr::RawlogReader::from_bytes(bytes, options);
+    io::RawlogReader reader = io::RawlogReader::from_bytes(bytes, options);
     const lr::MissionLog log = lr::load_mission_log(reader);
-    require(log.read_status.stop != lr::RawlogStop::kNone);
+    require(log.read_status.stop != io::RawlogStop::kNone);
     (void)log.stop_description();
   } catch (const losmimo::common::InputError&) {
   }
@@ -62,11 +63,11 @@ void interpret(const std::string& bytes, const lr::RawlogReaderOptions& options)
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string bytes(reinterpret_cast<const char*>(data), size);
-  lr::RawlogReaderOptions strict;
-  strict.foreign = lr::ForeignObjects::kStop;
+  io::RawlogReaderOptions strict;
+  strict.foreign = io::ForeignObjects::kStop;
   interpret(bytes, strict);
 
-  lr::RawlogReaderOptions sandboxed;  // the default: foreign objects in the sandbox
+  io::RawlogReaderOptions sandboxed;  // the default: foreign objects in the sandbox
   // Inputs are small (-max_len): a child that needs more than 64 MiB or 2 s is stopped, which is
   // what the limits are for; larger budgets only make those inputs slow.
   sandboxed.sandbox.memory_bytes = std::size_t{64} << 20;
@@ -75,7 +76,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // One sandboxed pass per input (each costs the child's parse and this process's re-parse):
   // the objects and their order, or the interpretation, by the input's length.
   if (size % 2 == 0) {
-    check_contents(lr::read_rawlog_bytes(bytes, sandboxed), sandboxed);
+    check_contents(io::read_rawlog_bytes(bytes, sandboxed), sandboxed);
   } else {
     interpret(bytes, sandboxed);
   }

@@ -1,4 +1,4 @@
-// Stock MRPT app configurations (rawlog/mrpt_app_config.h) and ground truth aligned as
+// Stock MRPT app configurations (mrpt_logs/mrpt_app_config.h) and ground truth aligned as
 // ro-localization aligns it, on MRPT's shipped UWB and RO-SLAM demos (Debian mrpt-common).
 #include <gtest/gtest.h>
 
@@ -10,14 +10,14 @@
 #include <mrpt/poses/CPose2D.h>
 
 #include "losmimo/common/input_error.h"
-#include "losmimo/rawlog/beacon_list.h"
-#include "losmimo/rawlog/mrpt_app_config.h"
-#include "losmimo/rawlog/range_replay.h"
+#include "losmimo/mrpt_logs/beacon_list.h"
+#include "losmimo/mrpt_logs/mrpt_app_config.h"
+#include "losmimo/mrpt_logs/range_replay.h"
 #include "losmimo/rawlog/recorder.h"
 #include "rawlog_test_util.h"
 #include "support/dependencies.h"
 
-namespace losmimo::rawlog {
+namespace losmimo::mrpt_logs {
 namespace {
 
 const std::string kData = "/usr/share/mrpt/datasets";
@@ -97,7 +97,7 @@ TEST(MrptAppConfig, BadValues_NameSectionKeyAndValue) {
 }
 
 RangeLog uwb_log() {
-  RawlogReader reader = RawlogReader::open_file(kUwbLog);
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::open_file(kUwbLog);
   return load_range_log(reader);
 }
 
@@ -198,9 +198,9 @@ TEST(BeaconsIni, WrittenMap_ReadsBackAsTheSameBeaconsThroughTheStockKeys) {
 TEST(BeaconsIni, RecordedMissionsIni_GivesTheBsBeaconRangeSigmaAndStartCubePrior) {
   // GIVEN: the beacons.ini losmimo-record writes for the small mission (start cube 50 m at
   // 1 km, range sigma 0.1 m).
-  const MissionConfig config = test_support::small_mission("ekf", false);
+  const rawlog::MissionConfig config = test_support::small_mission("ekf", false);
   const std::string path = test_support::temp_path("mission.beacons.ini");
-  std::ofstream(path) << mission_beacons_ini_text(config);
+  std::ofstream(path) << rawlog::mission_beacons_ini_text(config);
   // WHEN: read through the stock keys.
   const MrptAppConfig c = read_mrpt_app_config(path);
   // THEN: the BS as beacon 0 at the origin, the beacon's range sigma, the cube's x-y box with
@@ -223,4 +223,4 @@ TEST(BeaconsIni, RecordedMissionsIni_GivesTheBsBeaconRangeSigmaAndStartCubePrior
 }
 
 }  // namespace
-}  // namespace losmimo::rawlog
+}  // namespace losmimo::mrpt_logs

@@ -4,10 +4,11 @@
 #include <sstream>
 
 #include "losmimo/apps/replay_app.h"
+#include "losmimo/rawlog/format.h"
 #include "losmimo/rawlog/recorder.h"
 #include "rawlog_test_util.h"
 
-namespace losmimo::rawlog {
+namespace losmimo::mrpt_logs {
 namespace {
 
 apps::ReplayAppOptions options(const std::string& log, const std::string& beacons_text) {
@@ -32,10 +33,10 @@ TEST(RangeReplayInput, LogWithoutBeaconRanges_ExitsTwoListingWhatItHolds) {
 TEST(RangeReplayInput, SeveralUavsRanges_ExitsTwoNamingTheCommandThatKeepsOne) {
   // GIVEN: a losmimo log (4 UAVs) with its written beacons.ini.
   const std::string log = test_support::temp_path("several_uavs.rawlog");
-  const MissionConfig config = test_support::small_mission("ekf", false);
-  record_mission(config, {log, 6, {}});
+  const rawlog::MissionConfig config = test_support::small_mission("ekf", false);
+  rawlog::record_mission(config, {log, 6, {}});
   const std::string ini = test_support::temp_path("several_uavs.beacons.ini");
-  test_support::write_file_bytes(ini, mission_beacons_ini_text(config));
+  test_support::write_file_bytes(ini, rawlog::mission_beacons_ini_text(config));
   apps::ReplayAppOptions o;
   o.rawlog_path = log;
   o.mrpt_config = ini;
@@ -43,7 +44,11 @@ TEST(RangeReplayInput, SeveralUavsRanges_ExitsTwoNamingTheCommandThatKeepsOne) {
   std::ostringstream out, err;
   EXPECT_EQ(apps::run_replay_app(o, out, err), 2);
   EXPECT_NE(err.str().find("CObservationBeaconRanges of 4 UAVs"), std::string::npos) << err.str();
-  EXPECT_NE(err.str().find("--keep-label UAV00_ODOMETRY,UAV00_BS_RANGES"), std::string::npos) << err.str();
+  // The labels the recorder writes (rawlog/format.h), e.g. UAV00_ODOMETRY,UAV00_BS_RANGES.
+  const std::string keep = "--keep-label " + rawlog::uav_label(0, rawlog::UavStream::kOdometry) + "," +
+                           rawlog::uav_label(0, rawlog::UavStream::kBsRanges);
+  EXPECT_EQ(keep, "--keep-label UAV00_ODOMETRY,UAV00_BS_RANGES");
+  EXPECT_NE(err.str().find(keep), std::string::npos) << err.str();
 }
 
 TEST(RangeReplayInput, BadOptions_ExitTwoNamingTheOptionAndValue) {
@@ -86,4 +91,4 @@ TEST(RangeReplayInput, BadOptions_ExitTwoNamingTheOptionAndValue) {
 }
 
 }  // namespace
-}  // namespace losmimo::rawlog
+}  // namespace losmimo::mrpt_logs

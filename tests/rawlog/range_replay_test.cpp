@@ -1,4 +1,4 @@
-// Range-only replay (rawlog/range_log.h, range_replay.h, beacon_list.h) on MRPT's shipped
+// Range-only replay (mrpt_logs/range_log.h, range_replay.h, beacon_list.h) on MRPT's shipped
 // RO-SLAM demo (Debian mrpt-common) and on edited copies of its frames.
 #include <gtest/gtest.h>
 
@@ -22,12 +22,12 @@
 
 #include "losmimo/apps/replay_app.h"
 #include "losmimo/common/input_error.h"
-#include "losmimo/rawlog/beacon_list.h"
-#include "losmimo/rawlog/range_replay.h"
+#include "losmimo/mrpt_logs/beacon_list.h"
+#include "losmimo/mrpt_logs/range_replay.h"
 #include "rawlog_test_util.h"
 #include "support/dependencies.h"
 
-namespace losmimo::rawlog {
+namespace losmimo::mrpt_logs {
 namespace {
 
 using localization::FilterKind;
@@ -43,7 +43,7 @@ constexpr int kDemoFrames = 100;
   LOSMIMO_REQUIRE_FILE(kDemoBeacons, "mrpt-common")
 
 RangeLog demo_log() {
-  RawlogReader reader = RawlogReader::open_file(kDemoLog);
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::open_file(kDemoLog);
   return load_range_log(reader);
 }
 
@@ -347,9 +347,9 @@ TEST(RangeReplayApp, DemoWithBeacons_WritesTrackAndSummary) {
 }
 
 }  // namespace
-}  // namespace losmimo::rawlog
+}  // namespace losmimo::mrpt_logs
 
-namespace losmimo::rawlog {
+namespace losmimo::mrpt_logs {
 namespace {
 
 // An observation-format log (MRPT's pf-localization reads these): cumulative 2-D
@@ -391,7 +391,7 @@ TEST(RangeLog, ObservationFormat_OdometryDifferencesAndRangesWithKnownTruth) {
       a << r;
     }
   }
-  RawlogReader reader = RawlogReader::open_file(path);
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::open_file(path);
   const RangeLog log = load_range_log(reader);
   ASSERT_EQ(static_cast<int>(log.frames.size()), kSteps);
   EXPECT_FALSE(log.frames[0].has_odometry);
@@ -424,4 +424,4 @@ TEST(RangeLog, ObservationFormat_OdometryDifferencesAndRangesWithKnownTruth) {
 }
 
 }  // namespace
-}  // namespace losmimo::rawlog
+}  // namespace losmimo::mrpt_logs

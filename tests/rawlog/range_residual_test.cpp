@@ -8,9 +8,9 @@
 
 #include <Eigen/Core>
 
-#include "losmimo/rawlog/range_replay.h"
+#include "losmimo/mrpt_logs/range_replay.h"
 
-namespace losmimo::rawlog {
+namespace losmimo::mrpt_logs {
 namespace {
 
 using localization::FilterKind;
@@ -85,4 +85,4 @@ TEST(RangeReplayResidual, GrossOutliers_AreGatedAndLeftOutOfTheResidualRms) {
 }
 
 }  // namespace
-}  // namespace losmimo::rawlog
+}  // namespace losmimo::mrpt_logs

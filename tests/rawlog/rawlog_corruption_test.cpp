@@ -56,9 +56,9 @@ const Recorded& recorded() {
 
 // Strict reader (nothing MRPT parses unchecked) + the interpreter, on bytes.
 MissionLog load_bytes(const std::string& bytes) {
-  RawlogReaderOptions strict;
-  strict.foreign = ForeignObjects::kStop;
-  RawlogReader reader = RawlogReader::from_bytes(bytes, strict);
+  rawlog_io::RawlogReaderOptions strict;
+  strict.foreign = rawlog_io::ForeignObjects::kStop;
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::from_bytes(bytes, strict);
   return load_mission_log(reader);
 }
 
@@ -72,13 +72,13 @@ TEST(RawlogCorruption, TruncatedAtManyOffsets_PrefixProcessedAndReported) {
       const std::size_t cut = static_cast<std::size_t>(fraction * static_cast<double>(full.size()));
       const std::string bytes = full.substr(0, cut);
       // WHEN
-      RawlogReader reader = RawlogReader::from_bytes(bytes);
+      rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::from_bytes(bytes);
       std::int64_t n = 0;
       while (reader.next()) ++n;
       // THEN: stopped as truncated, saying where; fewer objects than written.
-      const RawlogReadStatus& s = reader.status();
+      const rawlog_io::RawlogReadStatus& s = reader.status();
       SCOPED_TRACE((compressed ? "gzip cut at " : "plain cut at ") + std::to_string(cut));
-      EXPECT_EQ(s.stop, RawlogStop::kTruncated) << s.describe();
+      EXPECT_EQ(s.stop, rawlog_io::RawlogStop::kTruncated) << s.describe();
       EXPECT_LT(n, r.objects);
       EXPECT_EQ(s.objects, n);
       EXPECT_NE(s.describe().find("object " + std::to_string(n)), std::string::npos) << s.describe();
@@ -118,12 +118,12 @@ TEST(RawlogCorruption, RandomBytesCorrupted_StopsCleanlyWithAReason) {
     }
     // THEN: either stopped with a reason, or an integrity mark caught it, or (a change inside
     // a value that no check covers: the digest catches those) it is complete.
-    if (log.read_status.stop != RawlogStop::kEnd) {
+    if (log.read_status.stop != rawlog_io::RawlogStop::kEnd) {
       ++stopped_early;
       EXPECT_FALSE(log.read_status.reason.empty());
     }
     if (!log.integrity_error.empty()) ++integrity_caught;
-    EXPECT_TRUE(log.read_status.stop != RawlogStop::kEnd || !log.integrity_error.empty() || !log.complete ||
+    EXPECT_TRUE(log.read_status.stop != rawlog_io::RawlogStop::kEnd || !log.integrity_error.empty() || !log.complete ||
                 bytes == r.gz || bytes == r.raw)
         << "case " << i << ": corruption not detected";
   }
@@ -144,9 +144,9 @@ TEST(RawlogCorruption, HugeVectorLength_RefusedWithoutAllocating) {
   const std::uint32_t huge = 0xFFFFFFF0u;
   std::memcpy(bytes.data() + length_at, &huge, 4);
   // WHEN: read with the default (non-strict) options.
-  const RawlogContents c = read_rawlog_bytes(bytes);
+  const rawlog_io::RawlogContents c = rawlog_io::read_rawlog_bytes(bytes);
   // THEN: refused by the length check, the objects before it returned.
-  EXPECT_EQ(c.status.stop, RawlogStop::kLimit) << c.status.describe();
+  EXPECT_EQ(c.status.stop, rawlog_io::RawlogStop::kLimit) << c.status.describe();
   EXPECT_NE(c.status.reason.find("AIN_8bits"), std::string::npos) << c.status.reason;
   EXPECT_GT(c.objects.size(), 0u);
 }
@@ -183,11 +183,11 @@ TEST(RawlogForeign, BearingRangeAndOdometry_AreUsedAndTheRestListedAndSkipped) {
     a << daq;
   }
   // WHEN
-  RawlogReader reader = RawlogReader::open_file(path);
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::open_file(path);
   const MissionLog log = load_mission_log(reader);
   // THEN: foreign, complete, one UAV with an epoch per odometry reading, skips listed.
   EXPECT_FALSE(log.ours);
-  EXPECT_EQ(log.read_status.stop, RawlogStop::kEnd) << log.read_status.describe();
+  EXPECT_EQ(log.read_status.stop, rawlog_io::RawlogStop::kEnd) << log.read_status.describe();
   EXPECT_EQ(log.num_uavs, 1);
   ASSERT_EQ(static_cast<int>(log.epochs.size()), kEpochs);
   EXPECT_EQ(log.skipped.at("mrpt::obs::CObservationIMU IMU"), kEpochs);
@@ -228,7 +228,7 @@ TEST(RawlogCorruption, BadConfigInAnOwnLog_IsBadInputNamingTheKey) {
     a << c;
   }
   // WHEN / THEN
-  RawlogReader reader = RawlogReader::open_file(path);
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::open_file(path);
   EXPECT_THROW(load_mission_log(reader), common::InputError);
   std::ostringstream out, err;
   EXPECT_EQ(apps::run_replay_app({path, "", false, false, "", false}, out, err), 2);

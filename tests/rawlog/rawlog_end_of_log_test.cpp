@@ -54,9 +54,9 @@ std::string replace_line(std::string text, const std::string& key, const std::st
 
 // The log, plain (uncompressed), with END_OF_LOG's text (without its text_digest line) edited.
 std::string with_end_of_log(const std::function<std::string(const std::string&)>& edit) {
-  RawlogReader reader = RawlogReader::open_file(dead_uav_log());
-  std::vector<RawlogObject> objects;
-  while (std::optional<RawlogObject> o = reader.next()) objects.push_back(std::move(*o));
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::open_file(dead_uav_log());
+  std::vector<rawlog_io::RawlogObject> objects;
+  while (std::optional<rawlog_io::RawlogObject> o = reader.next()) objects.push_back(std::move(*o));
   std::string bytes;
   for (std::size_t i = 0; i + 1 < objects.size(); ++i)
     bytes.append(reinterpret_cast<const char*>(objects[i].bytes.data()), objects[i].bytes.size());
@@ -73,7 +73,7 @@ std::string with_end_of_log(const std::function<std::string(const std::string&)>
 }
 
 MissionLog load_bytes(const std::string& bytes) {
-  RawlogReader reader = RawlogReader::from_bytes(bytes);
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::from_bytes(bytes);
   return load_mission_log(reader);
 }
 

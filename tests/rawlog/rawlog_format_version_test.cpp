@@ -47,9 +47,9 @@ std::int64_t used(const MissionLog& log, const std::string& suffix) {
 // The recorded log, plain, with every "losmimo-rawlog 2" / "format_version = 2" of its CONFIG
 // text replaced by version `v`.
 std::string with_config_version(int v) {
-  RawlogReader reader = RawlogReader::open_file(recorded_log());
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::open_file(recorded_log());
   std::string bytes;
-  for (int i = 0; std::optional<RawlogObject> o = reader.next(); ++i) {
+  for (int i = 0; std::optional<rawlog_io::RawlogObject> o = reader.next(); ++i) {
     if (i > 0) {
       bytes.append(reinterpret_cast<const char*>(o->bytes.data()), o->bytes.size());
       continue;
@@ -139,13 +139,13 @@ TEST(RawlogFormatVersion, NewRecording_IsTheCurrentVersionWithTheStandardStreams
 
 TEST(RawlogFormatVersion, UnchangedRewrite_ReadsComplete) {
   // The rewrite alone changes nothing the reader checks (else the next case proves nothing).
-  RawlogReader reader = RawlogReader::from_bytes(with_config_version(kRawlogFormatVersion));
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::from_bytes(with_config_version(kRawlogFormatVersion));
   EXPECT_TRUE(load_mission_log(reader).complete);
 }
 
 TEST(RawlogFormatVersion, NewerVersion_IsRefusedNamingIt) {
   const int future = kRawlogFormatVersion + 1;
-  RawlogReader reader = RawlogReader::from_bytes(with_config_version(future));
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::from_bytes(with_config_version(future));
   try {
     load_mission_log(reader);
     FAIL() << "a version-" << future << " log was read";

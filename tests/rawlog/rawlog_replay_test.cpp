@@ -171,7 +171,7 @@ TEST(RawlogReplay, MissionKilledMidway_LeavesAReadablePrefix) {
   };
   EXPECT_EXIT(record_and_die(), ::testing::KilledBySignal(SIGKILL), "");
   // WHEN
-  RawlogReader reader = RawlogReader::open_file(path);
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::open_file(path);
   const MissionLog log = load_mission_log(reader);
   // THEN: epochs 0..5 are there and verified; the log says it is partial.
   EXPECT_TRUE(log.ours);

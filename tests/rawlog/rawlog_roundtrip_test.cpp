@@ -60,19 +60,19 @@ TEST(RawlogRoundTrip, EveryObservationReadsBackEqualToWhatTheLoopProduced) {
   ASSERT_EQ(run.run.iterations, rec.run.run.iterations);  // the recorder did not change the run
 
   // WHEN: read back object by object.
-  RawlogReader reader = RawlogReader::open_file(path);
-  std::vector<RawlogObject> objects;
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::open_file(path);
+  std::vector<rawlog_io::RawlogObject> objects;
   while (auto o = reader.next()) objects.push_back(std::move(*o));
 
   // THEN: a clean end, and every object in the order written.
-  EXPECT_EQ(reader.status().stop, RawlogStop::kEnd) << reader.status().describe();
+  EXPECT_EQ(reader.status().stop, rawlog_io::RawlogStop::kEnd) << reader.status().describe();
   ASSERT_EQ(static_cast<std::int64_t>(objects.size()), rec.objects);
   std::size_t next_epoch = 0, next_move = 0;
   std::map<std::string, int> seen;
   std::map<int, Eigen::Vector2d> odometry_sum;  // per UAV
   for (int m = 0; m < config.placement.scenario.num_uavs; ++m) odometry_sum[m] = Eigen::Vector2d::Zero();
   int checked = 0;
-  for (const RawlogObject& o : objects) {
+  for (const rawlog_io::RawlogObject& o : objects) {
     const auto* obs = dynamic_cast<const mrpt::obs::CObservation*>(o.object.get());
     ASSERT_NE(obs, nullptr) << o.class_name;
     const auto label = parse_uav_label(obs->sensorLabel);
@@ -189,7 +189,7 @@ TEST(RawlogRoundTrip, EveryObservationReadsBackEqualToWhatTheLoopProduced) {
   for (const auto& [label, n] : seen) EXPECT_EQ(n, rec.label_counts.at(label)) << label;
 
   // AND: the interpreter accepts every mark and sees the whole log.
-  RawlogReader again = RawlogReader::open_file(path);
+  rawlog_io::RawlogReader again = rawlog_io::RawlogReader::open_file(path);
   const MissionLog log = load_mission_log(again);
   EXPECT_TRUE(log.ours);
   EXPECT_TRUE(log.complete);

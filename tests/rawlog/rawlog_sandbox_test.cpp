@@ -1,5 +1,5 @@
 // Foreign rawlogs cannot crash the replay: objects of logs losmimo did not write are parsed in a
-// bounded child process (rawlog/sandbox.h). A crash of MRPT's deserializer, its memory limit or
+// bounded child process (rawlog_io/sandbox.h). A crash of MRPT's deserializer, its memory limit or
 // its CPU limit there stops the read with a status naming the object index, byte offset and
 // class; the objects before it are kept. losmimo's own logs stay in this process.
 #include <gtest/gtest.h>
@@ -18,10 +18,10 @@
 
 #include "losmimo/apps/replay_app.h"
 #include "losmimo/rawlog/log.h"
-#include "losmimo/rawlog/reader.h"
+#include "losmimo/rawlog_io/reader.h"
 #include "rawlog/rawlog_test_util.h"
 
-namespace losmimo::rawlog {
+namespace losmimo::rawlog_io {
 namespace {
 
 using test_support::read_file;
@@ -186,4 +186,4 @@ TEST(RawlogSandbox, ReplayOfTheCrashingLog_Exits1NamingTheObject) {
 }
 
 }  // namespace
-}  // namespace losmimo::rawlog
+}  // namespace losmimo::rawlog_io

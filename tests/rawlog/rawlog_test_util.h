@@ -32,7 +32,7 @@ inline rawlog::MissionConfig small_mission(const std::string& filter = "ekf", bo
 }
 
 inline rawlog::MissionLog load_log(const std::string& path) {
-  rawlog::RawlogReader reader = rawlog::RawlogReader::open_file(path);
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::open_file(path);
   return rawlog::load_mission_log(reader);
 }
 

@@ -10,12 +10,12 @@
 #include <regex>
 #include <sstream>
 
-#include "losmimo/rawlog/mrpt_app_config.h"
-#include "losmimo/rawlog/range_replay.h"
+#include "losmimo/mrpt_logs/mrpt_app_config.h"
+#include "losmimo/mrpt_logs/range_replay.h"
 #include "rawlog_test_util.h"
 #include "support/dependencies.h"
 
-namespace losmimo::rawlog {
+namespace losmimo::mrpt_logs {
 namespace {
 
 const std::string kLog = "/usr/share/mrpt/datasets/RO-SLAM_demo.rawlog";
@@ -71,7 +71,7 @@ TEST(StockPfLocalization, RoSlamDemo_LosmimoTrackWithinStatedDistanceOfTheStockA
   RangeReplayOptions o;
   o.prior = cfg.prior;
   o.config.filter.noise.sigma_range_m = cfg.range_sigma_m.value_or(0.1);
-  RawlogReader reader = RawlogReader::open_file(kLog);
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::open_file(kLog);
   const RangeLog log = load_range_log(reader);
   const RangeReplayResult r = replay_ranges(log, cfg.beacons, o);
   // THEN
@@ -87,4 +87,4 @@ TEST(StockPfLocalization, RoSlamDemo_LosmimoTrackWithinStatedDistanceOfTheStockA
 }
 
 }  // namespace
-}  // namespace losmimo::rawlog
+}  // namespace losmimo::mrpt_logs

@@ -1,4 +1,4 @@
-// losmimo-replay on range-only logs (rawlog/range_replay.h): options, messages, exit codes.
+// losmimo-replay on range-only logs (mrpt_logs/range_replay.h): options, messages, exit codes.
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -14,15 +14,16 @@
 #include "losmimo/common/format.h"
 #include "losmimo/common/input_error.h"
 #include "losmimo/common/staged_output.h"
-#include "losmimo/rawlog/beacon_list.h"
-#include "losmimo/rawlog/mrpt_app_config.h"
-#include "losmimo/rawlog/range_replay.h"
+#include "losmimo/mrpt_logs/beacon_list.h"
+#include "losmimo/mrpt_logs/mrpt_app_config.h"
+#include "losmimo/mrpt_logs/range_replay.h"
 #include "messages.h"
 #include "replay_outputs.h"
 
 namespace losmimo::apps {
 
-using namespace rawlog;
+using namespace mrpt_logs;
+using namespace rawlog_io;
 
 namespace {
 constexpr const char* kApp = "losmimo-replay";

@@ -17,6 +17,7 @@
 namespace losmimo::apps {
 
 using namespace rawlog;
+using namespace rawlog_io;
 
 namespace {
 constexpr const char* kApp = "losmimo-replay";

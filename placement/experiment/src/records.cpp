@@ -146,124 +146,183 @@ std::string RecordsWriter::end() {
   return emit("e," + std::to_string(points_) + "," + std::to_string(records_) + "," + hex(digest_) + "\n");
 }
 
-RecordLines read_records(std::istream& in, const std::string& origin, RecordsMode mode, std::size_t max_line_bytes) {
-  const bool checkpoint = mode == RecordsMode::kCheckpoint;
-  RecordLines result;
-  std::uint64_t digest = common::kFnvOffset;
-  std::uint64_t bytes = 0;
-  std::string line;
-  int line_no = 0;
-  bool header_seen = false, ended = false;
-  int next_point = 0;
-  // The point being read: its records and, per (trial, algorithm), the line it came from.
-  std::vector<TrialRecord> pending;
-  std::map<std::pair<int, std::string>, int> pending_lines;
+namespace {
 
+// One records file read line by line: the running digest, the point under way and what has
+// been verified so far.
+class RecordsReader {
+ public:
+  RecordsReader(const std::string& origin, RecordsMode mode)
+      : origin_(origin), checkpoint_(mode == RecordsMode::kCheckpoint) {}
+  RecordLines read(std::istream& in, std::size_t max_line_bytes);
+
+ private:
+  void magic_line(const std::string& line, const std::string& where) const;
+  void header_line(const std::vector<std::string>& f, const std::string& where);
+  void record_line(const std::string& line, const std::vector<std::string>& f, const std::string& where);
+  void mark_line(const std::vector<std::string>& f, std::uint64_t digest_before, const std::string& where);
+  void point_end(const std::vector<std::string>& f, long long n, std::uint64_t stated, std::uint64_t digest_before,
+                 const std::string& where);
+  void file_end(const std::vector<std::string>& f, long long n, std::uint64_t stated, std::uint64_t digest_before,
+                const std::string& where);
+  void finish(const std::istream& in);
+
+  const std::string& origin_;
+  const bool checkpoint_;
+  RecordLines result_;
+  std::uint64_t digest_ = common::kFnvOffset;
+  std::uint64_t bytes_ = 0;
+  int line_no_ = 0;
+  bool header_seen_ = false, ended_ = false;
+  int next_point_ = 0;
+  // The point being read: its records and, per (trial, algorithm), the line it came from.
+  std::vector<TrialRecord> pending_;
+  std::map<std::pair<int, std::string>, int> pending_lines_;
+};
+
+RecordLines RecordsReader::read(std::istream& in, std::size_t max_line_bytes) {
+  std::string line;
   while (true) {
-    const std::string where = origin + ":" + std::to_string(line_no + 1);
+    const std::string where = origin_ + ":" + std::to_string(line_no_ + 1);
     if (!common::getline_bounded(in, line, max_line_bytes, where)) break;
-    ++line_no;
+    ++line_no_;
     if (in.eof()) {
       // No end of line: the write was cut here (lines are written whole and in order, so only
       // the last one can be). A checkpoint ends at its last complete point anyway.
-      if (!checkpoint) throw InputError(where + ": truncated last line (no end of line)");
-      ++result.unverified_lines;
+      if (!checkpoint_) throw InputError(where + ": truncated last line (no end of line)");
+      ++result_.unverified_lines;
       break;
     }
     const std::string text = line + "\n";
-    const std::uint64_t digest_before = digest;
-    digest = common::fnv1a64(text, digest);
-    bytes += text.size();
-    if (line_no == 1) {
-      if (line.rfind(kRecordsMagic, 0) == 0 && line != kRecordsHeader) {
-        throw InputError(where + ": '" + line + "': written by another losmimo version (expected '" + kRecordsHeader +
-                         "'); run that experiment again");
-      }
-      if (line != kRecordsHeader) throw InputError(where + ": not a records file (expected '" + kRecordsHeader + "')");
+    const std::uint64_t digest_before = digest_;
+    digest_ = common::fnv1a64(text, digest_);
+    bytes_ += text.size();
+    if (line_no_ == 1) {
+      magic_line(line, where);
       continue;
     }
-    if (ended) throw InputError(where + ": a line after the e line that closes the file");
+    if (ended_) throw InputError(where + ": a line after the e line that closes the file");
     const std::vector<std::string> f = split(line);
     const std::string& kind = f[0];
-    if (!header_seen) {
-      if (kind != "h" || f.size() != 5) {
-        throw InputError(where + ": expected the h line (h,<kind>,<index>,<count>,<config digest>)");
-      }
-      RecordsHeader& h = result.header;
-      h.kind = f[1];
-      if (h.kind != kRecordsKindRun && h.kind != kRecordsKindShard) throw InputError(where + ": unknown kind '" + h.kind + "'");
-      h.shard_count = static_cast<int>(common::parse_integer(f[3], where, 1, 1'000'000'000));
-      h.shard_index = static_cast<int>(common::parse_integer(f[2], where, 0, h.shard_count - 1));
-      h.config_digest = parse_hex(f[4], where);
-      header_seen = true;
-      result.verified_bytes = bytes;
-      continue;
-    }
-    if (kind == "r") {
-      if (f.size() < 2) throw InputError(where + ": too few fields");
-      int point = 0;
-      TrialRecord r = parse_record(f, f.size() - 1, point, where);
-      if (parse_hex(f.back(), where) != common::fnv1a64(std::string_view(line).substr(0, line.rfind(',')))) {
-        throw InputError(where + ": record " + name_of(point, r) + " was altered: its digest does not match its text");
-      }
-      if (point != next_point) {
-        throw InputError(where + ": record " + name_of(point, r) + " where point " + std::to_string(next_point) +
-                         " is under way (a d line missing or a record moved)");
-      }
-      const auto [it, fresh] = pending_lines.emplace(std::make_pair(r.trial, r.algorithm), line_no);
-      if (!fresh) {
-        throw InputError(where + ": record " + name_of(point, r) + " appears twice (also line " +
-                         std::to_string(it->second) + ")");
-      }
-      pending.push_back(std::move(r));
+    if (!header_seen_) {
+      header_line(f, where);
+    } else if (kind == "r") {
+      record_line(line, f, where);
     } else if (kind == "d" || kind == "e") {
-      if (f.size() != 4) throw InputError(where + ": expected " + kind + ",<point>,<records>,<digest>");
-      const long long n = common::parse_integer(f[2], where, 0, 1LL << 40);
-      const std::uint64_t stated = parse_hex(f[3], where);
-      if (kind == "d") {
-        const int point = static_cast<int>(common::parse_integer(f[1], where, 0, 1 << 30));
-        if (point != next_point) {
-          throw InputError(where + ": point " + std::to_string(point) + " finished where point " +
-                           std::to_string(next_point) + " was expected (a point missing or repeated)");
-        }
-        if (static_cast<long long>(pending.size()) != n) {
-          throw InputError(where + ": point " + std::to_string(point) + " has " + std::to_string(pending.size()) +
-                           " records where its d line says " + std::to_string(n) + " (a record " +
-                           (static_cast<long long>(pending.size()) < n ? "missing" : "added") + ")");
-        }
-        if (stated != digest_before) {
-          throw InputError(where + ": point " + std::to_string(point) +
-                           ": the digest of the file up to here differs from its d line (a line changed, added or removed)");
-        }
-        result.points[point] = std::move(pending);
-        result.records += n;
-        pending.clear();
-        pending_lines.clear();
-        ++next_point;
-        result.verified_bytes = bytes;
-      } else {
-        if (checkpoint) throw InputError(where + ": an e line in a checkpoint");
-        const long long points = common::parse_integer(f[1], where, 0, 1 << 30);
-        if (!pending.empty()) throw InputError(where + ": point " + std::to_string(next_point) + " was not finished");
-        if (points != next_point || n != result.records || stated != digest_before) {
-          throw InputError(where + ": the e line says " + f[1] + " points, " + f[2] + " records and digest " + f[3] +
-                           "; the file holds " + std::to_string(next_point) + " points, " +
-                           std::to_string(result.records) + " records, digest " + hex(digest_before));
-        }
-        ended = true;
-      }
+      mark_line(f, digest_before, where);
     } else {
       throw InputError(where + ": unknown line kind '" + kind + "'");
     }
   }
-  if (in.bad()) throw InputError(origin + ": read error");
-  if (!header_seen) throw InputError(origin + ": no h line (an empty or cut records file)");
-  if (!checkpoint && !ended) {
-    throw InputError(origin + ": no e line: the file is cut short (" + std::to_string(next_point) + " points, " +
-                     std::to_string(result.records) + " records verified)");
+  finish(in);
+  return std::move(result_);
+}
+
+void RecordsReader::magic_line(const std::string& line, const std::string& where) const {
+  if (line.rfind(kRecordsMagic, 0) == 0 && line != kRecordsHeader) {
+    throw InputError(where + ": '" + line + "': written by another losmimo version (expected '" + kRecordsHeader +
+                     "'); run that experiment again");
   }
-  result.unverified_lines += static_cast<int>(pending.size());
-  return result;
+  if (line != kRecordsHeader) throw InputError(where + ": not a records file (expected '" + kRecordsHeader + "')");
+}
+
+void RecordsReader::header_line(const std::vector<std::string>& f, const std::string& where) {
+  if (f[0] != "h" || f.size() != 5) {
+    throw InputError(where + ": expected the h line (h,<kind>,<index>,<count>,<config digest>)");
+  }
+  RecordsHeader& h = result_.header;
+  h.kind = f[1];
+  if (h.kind != kRecordsKindRun && h.kind != kRecordsKindShard) throw InputError(where + ": unknown kind '" + h.kind + "'");
+  h.shard_count = static_cast<int>(common::parse_integer(f[3], where, 1, 1'000'000'000));
+  h.shard_index = static_cast<int>(common::parse_integer(f[2], where, 0, h.shard_count - 1));
+  h.config_digest = parse_hex(f[4], where);
+  header_seen_ = true;
+  result_.verified_bytes = bytes_;
+}
+
+void RecordsReader::record_line(const std::string& line, const std::vector<std::string>& f, const std::string& where) {
+  if (f.size() < 2) throw InputError(where + ": too few fields");
+  int point = 0;
+  TrialRecord r = parse_record(f, f.size() - 1, point, where);
+  if (parse_hex(f.back(), where) != common::fnv1a64(std::string_view(line).substr(0, line.rfind(',')))) {
+    throw InputError(where + ": record " + name_of(point, r) + " was altered: its digest does not match its text");
+  }
+  if (point != next_point_) {
+    throw InputError(where + ": record " + name_of(point, r) + " where point " + std::to_string(next_point_) +
+                     " is under way (a d line missing or a record moved)");
+  }
+  const auto [it, fresh] = pending_lines_.emplace(std::make_pair(r.trial, r.algorithm), line_no_);
+  if (!fresh) {
+    throw InputError(where + ": record " + name_of(point, r) + " appears twice (also line " +
+                     std::to_string(it->second) + ")");
+  }
+  pending_.push_back(std::move(r));
+}
+
+// A d or e line: <kind>,<point or points>,<records>,<digest of the file before this line>.
+void RecordsReader::mark_line(const std::vector<std::string>& f, std::uint64_t digest_before, const std::string& where) {
+  const std::string& kind = f[0];
+  if (f.size() != 4) throw InputError(where + ": expected " + kind + ",<point>,<records>,<digest>");
+  const long long n = common::parse_integer(f[2], where, 0, 1LL << 40);
+  const std::uint64_t stated = parse_hex(f[3], where);
+  if (kind == "d") {
+    point_end(f, n, stated, digest_before, where);
+  } else {
+    file_end(f, n, stated, digest_before, where);
+  }
+}
+
+void RecordsReader::point_end(const std::vector<std::string>& f, long long n, std::uint64_t stated,
+                              std::uint64_t digest_before, const std::string& where) {
+  const int point = static_cast<int>(common::parse_integer(f[1], where, 0, 1 << 30));
+  if (point != next_point_) {
+    throw InputError(where + ": point " + std::to_string(point) + " finished where point " +
+                     std::to_string(next_point_) + " was expected (a point missing or repeated)");
+  }
+  if (static_cast<long long>(pending_.size()) != n) {
+    throw InputError(where + ": point " + std::to_string(point) + " has " + std::to_string(pending_.size()) +
+                     " records where its d line says " + std::to_string(n) + " (a record " +
+                     (static_cast<long long>(pending_.size()) < n ? "missing" : "added") + ")");
+  }
+  if (stated != digest_before) {
+    throw InputError(where + ": point " + std::to_string(point) +
+                     ": the digest of the file up to here differs from its d line (a line changed, added or removed)");
+  }
+  result_.points[point] = std::move(pending_);
+  result_.records += n;
+  pending_.clear();
+  pending_lines_.clear();
+  ++next_point_;
+  result_.verified_bytes = bytes_;
+}
+
+void RecordsReader::file_end(const std::vector<std::string>& f, long long n, std::uint64_t stated,
+                             std::uint64_t digest_before, const std::string& where) {
+  if (checkpoint_) throw InputError(where + ": an e line in a checkpoint");
+  const long long points = common::parse_integer(f[1], where, 0, 1 << 30);
+  if (!pending_.empty()) throw InputError(where + ": point " + std::to_string(next_point_) + " was not finished");
+  if (points != next_point_ || n != result_.records || stated != digest_before) {
+    throw InputError(where + ": the e line says " + f[1] + " points, " + f[2] + " records and digest " + f[3] +
+                     "; the file holds " + std::to_string(next_point_) + " points, " +
+                     std::to_string(result_.records) + " records, digest " + hex(digest_before));
+  }
+  ended_ = true;
+}
+
+void RecordsReader::finish(const std::istream& in) {
+  if (in.bad()) throw InputError(origin_ + ": read error");
+  if (!header_seen_) throw InputError(origin_ + ": no h line (an empty or cut records file)");
+  if (!checkpoint_ && !ended_) {
+    throw InputError(origin_ + ": no e line: the file is cut short (" + std::to_string(next_point_) + " points, " +
+                     std::to_string(result_.records) + " records verified)");
+  }
+  result_.unverified_lines += static_cast<int>(pending_.size());
+}
+
+}  // namespace
+
+RecordLines read_records(std::istream& in, const std::string& origin, RecordsMode mode, std::size_t max_line_bytes) {
+  return RecordsReader(origin, mode).read(in, max_line_bytes);
 }
 
 void check_point_jobs(const std::string& origin, int point, const std::vector<TrialRecord>& records,
