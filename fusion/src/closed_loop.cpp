@@ -8,7 +8,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "losmimo/common/field_error.h"
 #include "losmimo/localization/beacon_model.h"
 #include "losmimo/localization/initial_belief.h"
 #include "losmimo/localization/robustness.h"
@@ -62,14 +61,7 @@ std::string ClosedLoopPlanner::name() const {
 
 void ClosedLoopPlanner::start(placement::Swarm& swarm) {
   const int nr = swarm.num_uavs();
-  // The UAV indices' upper bound is the swarm's size, known only here.
-  const common::Range uav_index = common::Range::closed(0, nr - 1);
-  for (std::size_t i = 0; i < config_.outages.size(); ++i) {
-    common::require_field_in(uav_index, config_.outages[i].uav, "closed_loop", "outages[" + std::to_string(i) + "].uav");
-  }
-  for (std::size_t i = 0; i < config_.faults.size(); ++i) {
-    common::require_field_in(uav_index, config_.faults[i].uav, "closed_loop", "faults[" + std::to_string(i) + "].uav");
-  }
+  require_uavs_in_swarm(config_, nr);  // the swarm's size is known only here
   uavs_.clear();
   beliefs_.assign(nr, localization::Belief{});
   heard_.assign(nr, 0);
