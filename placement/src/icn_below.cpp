@@ -20,9 +20,9 @@ namespace {
 // z^H (G - sI) z is that pivot (<= 0): a vector with Rayleigh quotient <= s.
 //
 // The factorisation is the kernels' shifted_ldl (left-looking on G's split planes, each
-// column summed in whole vectors at the instruction set's width). Eigen's
-// unblocked factorisation made a matrix-vector call per column, whose setup cost more than its
-// arithmetic at 16 x 16, on a dense copy of G that had to be converted from the planes first.
+// column summed in whole vectors at the instruction set's width), not Eigen's unblocked LDL^T:
+// that makes a matrix-vector call per column, whose setup costs more than its arithmetic at
+// 16 x 16, on a dense copy of G converted from the planes.
 bool ldl_fails(const kernels::Kernels& kern, const kernels::GramPlanes& G, double s,
                     Eigen::VectorXcd* witness = nullptr) {
   const int n = G.n, ld = G.ld;
