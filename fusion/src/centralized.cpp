@@ -180,6 +180,87 @@ Candidate continuation(Solver& solver, const Eigen::Matrix3Xd& initial_m, double
   return best;
 }
 
+// A candidate with the start it came from; raw: a URA placement itself, not optimised.
+struct Entry {
+  Candidate candidate;
+  CentralizedStart start;
+  bool raw;
+};
+
+// Noise-free GD until alpha from the start positions; its end point is a candidate as it
+// stands (J_mu is not involved).
+Candidate gd_candidate(const placement::Scenario& scenario, const Solver& solver) {
+  placement::Swarm swarm(solver.model, solver.start_m, placement::ErrorModel{}, /*seed=*/0);
+  placement::GradientDescentPlanner gd(scenario, placement::GdOptions{});
+  placement::RunOptions run;
+  run.target_icn = solver.config.target_icn;
+  run.max_iterations = solver.config.gd_max_iterations;
+  const placement::RunResult gd_run = placement::run_placement(gd, swarm, run);
+  return {solver.feasible(gd_run.final_m), gd_run.final_m, 0.0};
+}
+
+// The URA baselines (num_uavs == Nt) into result: the lattice URA with perfect knowledge (the
+// planner's own targets from the true positions), and the rigid URA with its slots assigned
+// by the eq. 4 cost (squared distance), each with its ICN and travel.
+void ura_baselines(const placement::Scenario& scenario, const Solver& solver, CentralizedResult& result) {
+  const Eigen::Matrix3Xd& start_m = solver.start_m;
+  placement::Swarm swarm(solver.model, start_m, placement::ErrorModel{}, /*seed=*/0);
+  placement::UraPlanner lattice(scenario, placement::UraVariant::kLattice);
+  lattice.start(swarm);
+  result.lattice_ura_m = lattice.targets_m();
+  result.lattice_ura_icn = solver.icn(result.lattice_ura_m);
+  result.lattice_ura_travel = travel_stats(start_m, result.lattice_ura_m);
+
+  const Eigen::Matrix3Xd slots = placement::optimal_ura_positions_m(scenario);
+  const int n = scenario.num_uavs;
+  Eigen::MatrixXd cost(n, n);
+  for (int m = 0; m < n; ++m) {
+    for (int s = 0; s < n; ++s) cost(m, s) = (slots.col(s) - start_m.col(m)).squaredNorm();
+  }
+  const std::vector<int> slot_of = placement::min_cost_assignment(cost);
+  result.rigid_ura_m.resize(3, n);
+  for (int m = 0; m < n; ++m) result.rigid_ura_m.col(m) = slots.col(slot_of[m]);
+  result.rigid_ura_icn = solver.icn(result.rigid_ura_m);
+  result.rigid_ura_travel = travel_stats(start_m, result.rigid_ura_m);
+}
+
+// The candidates from result's URA baselines: the continuations from each (mu_max down) and
+// the raw lattice URA as configured; the raw rigid URA always (the feasible fallback).
+void add_ura_entries(Solver& solver, const CentralizedResult& result, std::vector<Entry>& entries) {
+  const CentralizedConfig& config = solver.config;
+  if (config.start_from_lattice_ura) {
+    entries.push_back({continuation(solver, result.lattice_ura_m, config.mu_max),
+                       CentralizedStart::kLatticeUra, false});
+    entries.push_back({{result.lattice_ura_icn >= config.target_icn, result.lattice_ura_m, 0.0},
+                       CentralizedStart::kLatticeUra, true});
+  }
+  if (config.start_from_rigid_ura) {
+    entries.push_back({continuation(solver, result.rigid_ura_m, config.mu_max),
+                       CentralizedStart::kRigidUra, false});
+  }
+  entries.push_back({{result.rigid_ura_icn >= config.target_icn, result.rigid_ura_m, 0.0},
+                     CentralizedStart::kRigidUra, true});
+}
+
+// The feasible entry of least squared travel (the first of equals) into result; result is
+// untouched when none is feasible.
+void keep_least_travel(const Solver& solver, const std::vector<Entry>& entries, CentralizedResult& result) {
+  double best_travel2 = std::numeric_limits<double>::infinity();
+  for (const Entry& e : entries) {
+    if (!e.candidate.feasible) continue;
+    const double t2 = solver.travel2(e.candidate.q_m);
+    if (t2 < best_travel2) {
+      best_travel2 = t2;
+      result.status = CentralizedStatus::kFeasible;
+      result.best_start = e.start;
+      result.best_is_raw_ura = e.raw && !e.candidate.polished;
+      result.polished = e.candidate.polished;
+      result.positions_m = e.candidate.q_m;
+      result.mu = e.candidate.mu;
+    }
+  }
+}
+
 }  // namespace
 
 void validate(const CentralizedConfig& c) {
@@ -245,83 +326,18 @@ CentralizedResult solve_centralized(const placement::Scenario& scenario,
   Solver solver{model, start_m, config};
   CentralizedResult result;
 
-  struct Entry {
-    Candidate candidate;
-    CentralizedStart start;
-    bool raw;
-  };
   std::vector<Entry> entries;
   entries.push_back({continuation(solver, start_m, config.mu_initial),
                      CentralizedStart::kStartPositions, false});
-
-  if (config.start_from_gd) {
-    // Noise-free GD until alpha; its end point is feasible as it stands (J_mu is not involved).
-    placement::Swarm swarm(model, start_m, placement::ErrorModel{}, /*seed=*/0);
-    placement::GradientDescentPlanner gd(scenario, placement::GdOptions{});
-    placement::RunOptions run;
-    run.target_icn = config.target_icn;
-    run.max_iterations = config.gd_max_iterations;
-    const placement::RunResult gd_run = placement::run_placement(gd, swarm, run);
-    entries.push_back({{solver.feasible(gd_run.final_m), gd_run.final_m, 0.0},
-                       CentralizedStart::kGd, false});
+  if (config.start_from_gd) entries.push_back({gd_candidate(scenario, solver), CentralizedStart::kGd, false});
+  if (scenario.num_uavs == scenario.num_bs_antennas()) {
+    ura_baselines(scenario, solver, result);
+    add_ura_entries(solver, result, entries);
   }
-
-  const bool ura_possible = scenario.num_uavs == scenario.num_bs_antennas();
-  if (ura_possible) {
-    // Lattice URA with perfect knowledge: the planner's own targets from the true positions.
-    placement::Swarm swarm(model, start_m, placement::ErrorModel{}, /*seed=*/0);
-    placement::UraPlanner lattice(scenario, placement::UraVariant::kLattice);
-    lattice.start(swarm);
-    result.lattice_ura_m = lattice.targets_m();
-    result.lattice_ura_icn = solver.icn(result.lattice_ura_m);
-    result.lattice_ura_travel = travel_stats(start_m, result.lattice_ura_m);
-
-    // Rigid URA, slots assigned by the eq. 4 cost (squared distance).
-    const Eigen::Matrix3Xd slots = placement::optimal_ura_positions_m(scenario);
-    const int n = scenario.num_uavs;
-    Eigen::MatrixXd cost(n, n);
-    for (int m = 0; m < n; ++m) {
-      for (int s = 0; s < n; ++s) cost(m, s) = (slots.col(s) - start_m.col(m)).squaredNorm();
-    }
-    const std::vector<int> slot_of = placement::min_cost_assignment(cost);
-    result.rigid_ura_m.resize(3, n);
-    for (int m = 0; m < n; ++m) result.rigid_ura_m.col(m) = slots.col(slot_of[m]);
-    result.rigid_ura_icn = solver.icn(result.rigid_ura_m);
-    result.rigid_ura_travel = travel_stats(start_m, result.rigid_ura_m);
-
-    if (config.start_from_lattice_ura) {
-      entries.push_back({continuation(solver, result.lattice_ura_m, config.mu_max),
-                         CentralizedStart::kLatticeUra, false});
-      entries.push_back({{result.lattice_ura_icn >= config.target_icn, result.lattice_ura_m, 0.0},
-                         CentralizedStart::kLatticeUra, true});
-    }
-    if (config.start_from_rigid_ura) {
-      entries.push_back({continuation(solver, result.rigid_ura_m, config.mu_max),
-                         CentralizedStart::kRigidUra, false});
-    }
-    // The rigid URA itself is always a candidate: the feasible fallback.
-    entries.push_back({{result.rigid_ura_icn >= config.target_icn, result.rigid_ura_m, 0.0},
-                       CentralizedStart::kRigidUra, true});
-  }
-
   if (config.barrier_polish) {
     for (Entry& e : entries) polish(solver, e.candidate);
   }
-
-  double best_travel2 = std::numeric_limits<double>::infinity();
-  for (const Entry& e : entries) {
-    if (!e.candidate.feasible) continue;
-    const double t2 = solver.travel2(e.candidate.q_m);
-    if (t2 < best_travel2) {
-      best_travel2 = t2;
-      result.status = CentralizedStatus::kFeasible;
-      result.best_start = e.start;
-      result.best_is_raw_ura = e.raw && !e.candidate.polished;
-      result.polished = e.candidate.polished;
-      result.positions_m = e.candidate.q_m;
-      result.mu = e.candidate.mu;
-    }
-  }
+  keep_least_travel(solver, entries, result);
   if (result.status != CentralizedStatus::kFeasible) result.positions_m = start_m;
   result.icn = solver.icn(result.positions_m);
   result.travel = travel_stats(start_m, result.positions_m);

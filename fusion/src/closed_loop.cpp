@@ -8,7 +8,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "losmimo/common/field_error.h"
 #include "losmimo/localization/beacon_model.h"
 #include "losmimo/localization/initial_belief.h"
 #include "losmimo/localization/robustness.h"
@@ -19,19 +18,10 @@ namespace {
 
 enum class Stream : std::uint64_t { kSwarm = 1, kSimulator = 2, kFilter = 3, kCsi = 4 };
 
-// A per-UAV stream of the run (common/seed.h; salt 0 keeps recorded missions' seeds).
+// A per-UAV stream of the run: common/seed.h with salt 0 (the recorded missions' seeds).
 std::uint64_t derive_seed(std::uint64_t run_seed, Stream stream, int uav) {
   const std::uint64_t tag = (static_cast<std::uint64_t>(stream) << 32) | static_cast<std::uint32_t>(uav);
   return common::derive_seed(run_seed, {tag}, 0);
-}
-
-// BruteForcePlanner::step_uav's probe directions (bf.cpp), for the observer's commanded move.
-Eigen::Vector3d bf_probe_direction(int probe) {
-  static const Eigen::Vector3d kDirections[7] = {
-      Eigen::Vector3d(0, 0, 0),  Eigen::Vector3d(1, 0, 0),  Eigen::Vector3d(-1, 0, 0),
-      Eigen::Vector3d(0, 1, 0),  Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(0, 0, 1),
-      Eigen::Vector3d(0, 0, -1)};
-  return probe >= 0 && probe < 7 ? kDirections[probe] : Eigen::Vector3d::Zero();
 }
 
 }  // namespace
@@ -71,14 +61,7 @@ std::string ClosedLoopPlanner::name() const {
 
 void ClosedLoopPlanner::start(placement::Swarm& swarm) {
   const int nr = swarm.num_uavs();
-  // The UAV indices' upper bound is the swarm's size, known only here.
-  const common::Range uav_index = common::Range::closed(0, nr - 1);
-  for (std::size_t i = 0; i < config_.outages.size(); ++i) {
-    common::require_field_in(uav_index, config_.outages[i].uav, "closed_loop", "outages[" + std::to_string(i) + "].uav");
-  }
-  for (std::size_t i = 0; i < config_.faults.size(); ++i) {
-    common::require_field_in(uav_index, config_.faults[i].uav, "closed_loop", "faults[" + std::to_string(i) + "].uav");
-  }
+  require_uavs_in_swarm(config_, nr);  // the swarm's size is known only here
   uavs_.clear();
   beliefs_.assign(nr, localization::Belief{});
   heard_.assign(nr, 0);
@@ -251,7 +234,7 @@ void ClosedLoopPlanner::iterate(placement::Swarm& swarm, int iteration) {
       const double b_m = std::max(b_bf * uav.bf_step_scale, std::min(b_bf, bf_options_.min_step_m));
       const int probe = placement::BruteForcePlanner::step_uav(swarm, m, b_m);
       const bool moved = probe != 0;
-      if (observer_) commanded = b_m * bf_probe_direction(probe);
+      if (observer_) commanded = b_m * placement::bf_probe_direction(probe);
       uav.bf_step_scale = moved ? std::min(1.0, uav.bf_step_scale / bf_options_.contraction)
                                 : uav.bf_step_scale * bf_options_.contraction;
       modes[m] = static_cast<char>(UavMode::kBf);

@@ -78,6 +78,21 @@ void validate(const ClosedLoopConfig& config) {
   }
 }
 
+void require_uavs_in_swarm(const ClosedLoopConfig& config, int num_uavs) {
+  const auto require_uav = [num_uavs](const std::string& field, int uav) {
+    if (uav >= num_uavs) {
+      throw common::FieldError(field, "closed_loop." + field + " = " + std::to_string(uav) +
+                                          ": must be < the number of UAVs (" + std::to_string(num_uavs) + ")");
+    }
+  };
+  for (std::size_t i = 0; i < config.outages.size(); ++i) {
+    require_uav("outages[" + std::to_string(i) + "].uav", config.outages[i].uav);
+  }
+  for (std::size_t i = 0; i < config.faults.size(); ++i) {
+    require_uav("faults[" + std::to_string(i) + "].uav", config.faults[i].uav);
+  }
+}
+
 ClosedLoopConfig matched_closed_loop_config(const localization::SimulatorConfig& simulator,
                                             const placement::Scenario& scenario) {
   ClosedLoopConfig config;

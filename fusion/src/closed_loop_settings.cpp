@@ -220,18 +220,7 @@ ClosedLoopConfig load_closed_loop_config(const common::IniConfig& ini, const pla
       }
     }
     validate(c);
-    // The swarm's UAVs (ClosedLoopPlanner::start checks the same).
-    const int nr = placement.scenario.num_uavs;
-    const auto require_uav = [nr](const std::string& field, int uav) {
-      if (uav >= nr) {
-        throw common::FieldError(field, "closed_loop." + field + " = " + std::to_string(uav) +
-                                            ": must be < the number of UAVs (" + std::to_string(nr) + ")");
-      }
-    };
-    for (std::size_t i = 0; i < c.outages.size(); ++i) {
-      require_uav("outages[" + std::to_string(i) + "].uav", c.outages[i].uav);
-    }
-    for (std::size_t i = 0; i < c.faults.size(); ++i) require_uav("faults[" + std::to_string(i) + "].uav", c.faults[i].uav);
+    require_uavs_in_swarm(c, placement.scenario.num_uavs);
   });
   return c;
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include "losmimo/common/range.h"
 
@@ -89,16 +90,31 @@ void BruteForcePlanner::start(Swarm& swarm) {
   escape_rank_ = 0;
 }
 
+Eigen::Vector3d bf_probe_direction(int probe) {
+  static const Eigen::Vector3d kDirections[kBfNumProbes] = {
+      Eigen::Vector3d(0, 0, 0),  Eigen::Vector3d(1, 0, 0),  Eigen::Vector3d(-1, 0, 0),
+      Eigen::Vector3d(0, 1, 0),  Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(0, 0, 1),
+      Eigen::Vector3d(0, 0, -1)};
+  if (probe < 0 || probe >= kBfNumProbes) {
+    throw std::out_of_range("bf_probe_direction: probe " + std::to_string(probe) + " is not in [0, " +
+                            std::to_string(kBfNumProbes) + ")");
+  }
+  return kDirections[probe];
+}
+
 int BruteForcePlanner::step_uav(Swarm& swarm, int m, double b, ProbeActuation probe_actuation) {
-  // The probe moves z in {+e1, -e1, +e2, -e2, +e3, -e3}; index 0 is "stay".
-  static const Eigen::Matrix<double, 3, 6> kProbes =
-      (Eigen::Matrix<double, 3, 6>() << 1, -1, 0, 0, 0, 0, 0, 0, 1, -1, 0, 0, 0, 0, 0, 0, 1, -1).finished();
+  // The moves of probes 1 .. 6 as columns 0 .. 5.
+  static const Eigen::Matrix<double, 3, kBfNumProbes - 1> kProbes = [] {
+    Eigen::Matrix<double, 3, kBfNumProbes - 1> p;
+    for (int z = 1; z < kBfNumProbes; ++z) p.col(z - 1) = bf_probe_direction(z);
+    return p;
+  }();
   // The others do not move while UAV m probes: their Gram matrix is fixed.
   const UavObjective view(swarm.channel(), m);
-  double f[7];
+  double f[kBfNumProbes];
   probe_all(swarm, view, m, b * kProbes, probe_actuation, f);
   int best = 0;
-  for (int z = 1; z < 7; ++z) {
+  for (int z = 1; z < kBfNumProbes; ++z) {
     if (f[z] < f[best]) best = z;
   }
   if (best != 0) {

@@ -5,6 +5,7 @@
 #include <complex>
 #include <vector>
 
+#include "losmimo/common/seed.h"
 #include "losmimo/placement/kernels.h"
 
 namespace losmimo::placement::kernels {
@@ -199,20 +200,13 @@ double reorthogonalise(const double* Vr, const double* Vi, int ld, int count, do
   return norm2;
 }
 
-std::uint64_t counter_u64(std::uint64_t key, std::uint64_t j) {
-  std::uint64_t z = key + (j + 1) * 0x9e3779b97f4a7c15ULL;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 void normals(std::uint64_t key, std::uint64_t first_block, double* out, int blocks) {
   const double ulp = std::ldexp(1.0, -52);
   for (int b = 0; b < blocks; ++b) {
     for (int i = 0; i < 8; ++i) {
       const std::uint64_t pair = 8 * (first_block + b) + i;
-      const double u1 = 1.0 - static_cast<double>(counter_u64(key, 2 * pair) >> 12) * ulp;
-      const double u2 = static_cast<double>(counter_u64(key, 2 * pair + 1) >> 12) * ulp;
+      const double u1 = 1.0 - static_cast<double>(common::splitmix64_at(key, 2 * pair) >> 12) * ulp;
+      const double u2 = static_cast<double>(common::splitmix64_at(key, 2 * pair + 1) >> 12) * ulp;
       const double r = std::sqrt(-2.0 * std::log(u1));
       out[16 * b + i] = r * std::cos(2.0 * M_PI * u2);
       out[16 * b + 8 + i] = r * std::sin(2.0 * M_PI * u2);

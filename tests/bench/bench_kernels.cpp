@@ -14,12 +14,13 @@
 //     pair l < k, 8 lanes) + 6 n kLanes: 38 n^2 + 96 n;
 //   BF UAV step = rows_lanes + objectives_lanes: 440 n + 38 n^2 + 96 n;
 //   objective_of_row: 8 n^2 (conj(G) x) + 36 n; objective_at: + 55 n; gradient: + 30 n more;
-//   gram_update: 14 n^2; gram_of_rows: 8 n^2 nr (nr = n rows); leave_one_out_energy: 12 n^2;
+//   gram_update: 14 n^2; gram_of_rows: 8 nr n (n + 1) / 2 (the entries on and below the diagonal,
+//     8 per row each; the kernel copies the rest; nr = n rows); leave_one_out_energy: 12 n^2;
 //   hermitian_matvec: 8 n^2; shifted_ldl (to the end): 8 n^3 / 6 (n^3 / 6 complex
 //     multiply-adds in the updates; the divisions not counted);
 //   normals: 83 per pair (log 31, sincos 45, the rest 7).
 // BM_MemoryRead: read bandwidth for a working set, to judge the Nt = 256 kernels, whose
-// Gram matrix (2 planes x 256 x 256 doubles = 1 MiB) no longer fits this core's L1/L2.
+// Gram matrix (2 planes x 256 x 256 doubles = 1 MiB) does not fit this core's L1/L2.
 
 #include <benchmark/benchmark.h>
 

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+
 #include "losmimo/placement/bf.h"
 #include "losmimo/placement/gd.h"
 #include "losmimo/placement/metrics.h"
@@ -59,6 +61,36 @@ TEST(BruteForce, OneUavStep_NeverIncreasesTheObjective) {
       EXPECT_LE(lp::objective(swarm.channel().H()), before * (1 + 1e-12)) << "uav " << m;
     }
   }
+}
+
+TEST(BruteForce, StepUav_MovesByTheStepTimesTheReturnedProbeDirection) {
+  // GIVEN: no actuation error, so a UAV's move is exactly what the planner commands.
+  const lp::Scenario s;
+  const lp::ChannelModel model(s);
+  constexpr double kStepM = 0.3;
+  lp::Swarm swarm(model, start_for(s, 2), {}, 3);
+  int moves = 0;
+  for (int m = 0; m < s.num_uavs; ++m) {
+    const Eigen::Vector3d before = swarm.true_positions_m().col(m);
+    const int probe = lp::BruteForcePlanner::step_uav(swarm, m, kStepM);
+    // THEN: the probe index is in range and the UAV moved by b z_probe (z_0 = 0: it stayed).
+    ASSERT_GE(probe, 0);
+    ASSERT_LT(probe, lp::kBfNumProbes);
+    const Eigen::Vector3d moved = swarm.true_positions_m().col(m) - before;
+    EXPECT_LE((moved - kStepM * lp::bf_probe_direction(probe)).norm(), 1e-12) << "uav " << m;
+    moves += probe != 0;
+  }
+  EXPECT_GT(moves, 0);
+}
+
+TEST(BruteForce, ProbeDirections_AreStayThenTheSixSignedUnitAxes) {
+  EXPECT_EQ(lp::bf_probe_direction(0), Eigen::Vector3d::Zero());
+  for (int z = 1; z < lp::kBfNumProbes; ++z) {
+    const Eigen::Vector3d e = Eigen::Vector3d::Unit((z - 1) / 2);
+    EXPECT_EQ(lp::bf_probe_direction(z), (z % 2 == 1 ? 1.0 : -1.0) * e) << "probe " << z;
+  }
+  EXPECT_THROW(lp::bf_probe_direction(-1), std::out_of_range);
+  EXPECT_THROW(lp::bf_probe_direction(lp::kBfNumProbes), std::out_of_range);
 }
 
 TEST(GradientDescent, PlannedMove_DescendsUnderPerfectLocalization) {

@@ -150,14 +150,20 @@ struct ClosedLoopConfig {
 // filter_range, simulator_range and refinement_range.
 namespace closed_loop_range {
 inline constexpr common::Range unresponsive_after_iterations = common::Range::closed(1, 1000);
-inline constexpr common::Range uav = common::Range::closed(0, 2147483647);  // an index; the swarm's size is checked in start()
+inline constexpr common::Range uav = common::Range::closed(0, 2147483647);  // an index; < the swarm's size: require_uavs_in_swarm
 inline constexpr common::Range fault_from_iteration = common::Range::closed(1, 1e7);
 inline constexpr common::Range fault_num_iterations = common::Range::closed(0, 1e7);  // 0: to the end
 }  // namespace closed_loop_range
 
 // Throws common::FieldError naming the first bad field and its value (the nested configs
-// through their own validate()). UAV indices are checked against the swarm in start().
+// through their own validate()). UAV indices are checked against the swarm by
+// require_uavs_in_swarm.
 void validate(const ClosedLoopConfig& config);
+
+// Every UAV index of a valid config (outages, then faults) is below num_uavs, the swarm's size;
+// else throws common::FieldError "closed_loop.outages[1].uav = 16: must be < the number of UAVs
+// (16)". ClosedLoopPlanner::start and load_closed_loop_config check it.
+void require_uavs_in_swarm(const ClosedLoopConfig& config, int num_uavs);
 
 // The filter and sensor config that match a simulator: the filter assumes the true sensor noise.
 ClosedLoopConfig matched_closed_loop_config(const localization::SimulatorConfig& simulator,

@@ -19,9 +19,9 @@
 // filters' gate, a = sqrt(range_gate_chi2) sigmas (3.29 by default): rho(r^2) = a^2 log(1 + r^2/a^2),
 // quadratic for |r| << a, and its influence falls off beyond a, so a reading the filter would
 // gate barely moves the track, while a reading the filter wrongly gated while it was off can
-// count again once the track is right. (A Huber loss, linear beyond a, was tried: on MRPT's UWB
-// demo, whose ranges hold ~13 % outliers, their linear pull made the smoothed track worse than
-// the filter, 0.36 m RMSE against 0.14 m; docs/localization.md.) Being non-convex, the Cauchy
+// count again once the track is right. (A Huber loss, linear beyond a, keeps the outliers'
+// linear pull: on MRPT's UWB demo, whose ranges hold ~13 % outliers, it smooths worse than the
+// filter, 0.36 m RMSE against 0.14 m; docs/localization.md.) Being non-convex, the Cauchy
 // problem needs a good start: the filter's track.
 // Modes (window_frames):
 //   0      full batch: one problem over the whole log (a = 0, b = last); every frame gets the

@@ -51,13 +51,20 @@ inline constexpr common::Range stall_min_decrease = common::Range::above_up_to(0
 }  // namespace bf_range
 void validate(const BfOptions& options);
 
+// The probe moves z, unit vectors in the BS array frame: index 0 "stay" (the zero vector),
+// then +e1, -e1, +e2, -e2, +e3, -e3. BruteForcePlanner::step_uav returns such an index.
+inline constexpr int kBfNumProbes = 7;
+// z for probe in [0, kBfNumProbes); throws std::out_of_range otherwise.
+Eigen::Vector3d bf_probe_direction(int probe);
+
 class BruteForcePlanner : public Planner {
  public:
   BruteForcePlanner(const Scenario& scenario, const BfOptions& options);
   std::string name() const override { return "bf"; }
   void start(Swarm& swarm) override;
   void iterate(Swarm& swarm, int iteration) override;
-  // Probes and moves one UAV with step b (metres); returns the index (0..6) of the chosen probe.
+  // Probes and moves one UAV with step b (metres): it moves by b bf_probe_direction(z) for the
+  // probe z of least measured f, and returns z (0: it stays).
   static int step_uav(Swarm& swarm, int m, double b,
                       ProbeActuation probe_actuation = ProbeActuation::kEveryLeg);
 

@@ -101,16 +101,20 @@ struct Kernels {
   // y = G v.
   void (*hermitian_matvec)(const GramPlanes& G, const double* vr, const double* vi, double* yr, double* yi);
   // The factorisation G - sI = L D L^H from G's lower triangle (what is above it does not
-  // matter), right-looking: L unit lower triangular below the diagonal of (Lr, Li) (ld x n,
-  // column-major), the real pivots d_j on it (Li 0 there; the entries above are scratch). No
-  // square roots: it only proves (a pivot d_j <= 0 says G - sI is not positive definite).
+  // matter): L unit lower triangular below the diagonal of (Lr, Li) (ld x n, column-major), the
+  // real pivots d_j on it (Li 0 there; the entries above are scratch). No square roots: it only
+  // proves (a pivot d_j <= 0 says G - sI is not positive definite). The vector builds are
+  // left-looking (simd/gram.inc: column j from G's column j less every earlier column's
+  // update, in column order; the same bits on every build); the scalar reference is
+  // right-looking and agrees with them to rounding, not bit for bit.
   // Returns n if every pivot is positive; else the first column j whose pivot is not (columns
   // 0 .. j-1 complete), or -1 if that pivot is NaN (nothing proved).
   int (*shifted_ldl)(const GramPlanes& G, double s, double* Lr, double* Li);
   // One Gram-Schmidt pass of w against the `count` orthonormal vectors v_j = (Vr + j ld,
   // Vi + j ld): c_j = v_j^H w for every j first, then w -= c_j v_j in j order; returns |w|^2
   // after. Each sum over antennas in 8 partial sums combined as ((s0 + s2) + (s4 + s6)) +
-  // ((s1 + s3) + (s5 + s7)) (the order of the Lanczos's Eigen arrays it replaced: the same bits).
+  // ((s1 + s3) + (s5 + s7)): the order of the same pass with fixed-size Eigen arrays, whose bits
+  // it gives (tests/placement/reorthogonalise_test.cpp).
   double (*reorthogonalise)(const double* Vr, const double* Vi, int ld, int count, double* wr, double* wi);
   // Standard normal numbers of the counter-based stream `key`: blocks first_block ..
   // first_block + blocks - 1, kNormalsPerBlock numbers each, into out (kNormalsPerBlock blocks

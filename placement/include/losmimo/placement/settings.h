@@ -4,9 +4,9 @@
 // [bf] (BfOptions), [ura] (UraOptions) and [channel] (ChannelSettings: Rician fading, CSI
 // estimation noise), plus per-algorithm stop rules in [gd], [bf] and [ura] (RunOverride). Every
 // key, with its field, accepted values and meaning, is declared once in the key table in
-// settings.cpp (placement_keys(); common/key_table.h). Keys added after the paper setup was
-// fixed are written only when not at their default, so that the defaults' text (paper.ini,
-// every recorded rawlog's CONFIG) stays the same.
+// settings.cpp (placement_keys(); common/key_table.h). Keys beyond the paper setup are written
+// only when not at their default: the text of the defaults (paper.ini, every recorded rawlog's
+// CONFIG) holds the paper setup's keys only.
 
 #include <map>
 #include <set>
