@@ -175,7 +175,7 @@ std::vector<common::Key<ExperimentSettings>> experiment_key_list() {
               [](const ExperimentSettings& s) {
                 return join_names(s.algorithms, [](Algorithm a) { return to_string(a); });
               },
-              "comma-separated: random, gd, bf, ura, ura_lattice, ura_lattice_exact",
+              "comma-separated: random, gd, bf, ura, ura_lattice, ura_lattice_exact, cap",
               "the built-in sweeps' algorithms (default: all but ura_lattice_exact and cap)", "gd, bf"),
       K::integer("experiment", "fig1_trials", &ExperimentSettings::fig1_trials, 0, 10000,
                  "traced runs per algorithm for Fig 1 (no errors)", "2"),
