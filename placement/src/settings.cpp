@@ -145,6 +145,26 @@ std::vector<common::Key<UraOptions>> ura_keys() {
   };
 }
 
+// [cap]: every key only written when set, so that the defaults' text (paper.ini) is unchanged.
+std::vector<common::Key<CapOptions>> cap_keys() {
+  using K = common::Key<CapOptions>;
+  return {
+      K::real("cap", "step", &CapOptions::step, cap_range::step, "initial step per unit capacity gradient [m^2 per bit/s/Hz]",
+              "0.5")
+          .unless_default(),
+      K::real("cap", "decay", &CapOptions::decay, cap_range::decay, "step decay per iteration", "0.99").unless_default(),
+      K::real("cap", "max_move_m", &CapOptions::max_move_m, cap_range::max_move_m, "largest move per iteration [m]", "0.25")
+          .unless_default(),
+      K::boolean("cap", "backtracking", &CapOptions::backtracking,
+                 "halve a step that decreases the capacity (the UAV stays if none increases it)", "false")
+          .unless_default(),
+      K::integer("cap", "max_halvings", &CapOptions::max_halvings, cap_range::max_halvings, "halvings per backtracking", "3")
+          .unless_default(),
+      choice("cap", "power", &CapOptions::power, &cap_power_from_string, "equal | waterfill",
+             "the capacity climbed: equal power per BS antenna, or water-filling over the channel's modes", "waterfill"),
+  };
+}
+
 // [channel]: off (inf) by default; each key only written when set, so that every config and
 // recorded mission without them keeps its text.
 std::vector<common::Key<ChannelSettings>> channel_keys() {
@@ -196,6 +216,8 @@ const common::KeyTable<PlacementSettings>& placement_keys() {
     append(keys, ura_keys(), &PlacementSettings::ura, "ura");
     append(keys, run_override_keys("ura"), &PlacementSettings::ura_run, "ura_run");
     append(keys, channel_keys(), &PlacementSettings::channel, "channel");
+    append(keys, cap_keys(), &PlacementSettings::cap, "cap");
+    append(keys, run_override_keys("cap"), &PlacementSettings::cap_run, "cap_run");
     return common::KeyTable<PlacementSettings>(std::move(keys));
   }();
   return table;
@@ -215,6 +237,7 @@ PlacementSettings load_placement_settings(const common::IniConfig& cfg) {
   keys.check(cfg, "bf", [&] { validate(s.bf); });
   keys.check(cfg, "ura", [&] { validate(s.ura, s.scenario); });
   keys.check(cfg, "channel", [&] { validate(s.channel); });
+  keys.check(cfg, "cap", [&] { validate(s.cap); });
   return s;
 }
 

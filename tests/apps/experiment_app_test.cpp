@@ -2,6 +2,7 @@
 
 #include "support/files.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,8 +12,10 @@
 
 #include "losmimo/apps/experiment_app.h"
 #include "in_process.h"
+#include "losmimo/experiment/channel_sweeps.h"
 #include "losmimo/experiment/engine.h"
 #include "losmimo/experiment/summary.h"
+#include "losmimo/placement/capacity.h"
 #include "losmimo/placement/metrics.h"
 
 namespace lp = losmimo::placement;
@@ -184,6 +187,35 @@ TEST(ExperimentAlgorithms, UraLatticeExact_IsSelectableAndConvergesWithoutErrors
     EXPECT_EQ(rows[i][5], "1") << "iterations";
     EXPECT_EQ(rows[i][6], "1") << "converged";
     EXPECT_GE(std::stod(rows[i][7]), 0.95) << "final_icn";
+  }
+  fs::remove_all(dir);
+}
+
+TEST(ExperimentAlgorithms, Cap_RunsInTheSweepsAndReachesTheOrthogonalBound) {
+  // GIVEN: only the capacity planner, no errors, two trials, on the paper's BS (Nr = Nt = 16) and
+  // on an 8 x 8 BS (bs_antennas 64: Nr < Nt)
+  const fs::path dir = fs::path(::testing::TempDir()) / ("losmimo_exp_cap_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  losmimo::apps::ExperimentOptions o;
+  o.out_dir = dir.string();
+  o.threads = 1;
+  o.overrides = {"experiment.trials=2", "experiment.sweeps=sigma_loc_m, bs_antennas", "experiment.sigma_loc_values_m=0",
+                 "experiment.bs_antennas_values=64", "experiment.algorithms=cap", "experiment.plots=false",
+                 "experiment.fig1_trials=0"};
+  std::ostringstream out, err;
+  ASSERT_EQ(losmimo::apps::run_experiment_app(o, losmimo::experiment::channel_sweep_extensions(), out, err), 0) << err.str();
+  const auto rows = read_csv(dir / "trials.csv");
+  ASSERT_EQ(rows.size(), 5u);
+  const auto column = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(rows[0].begin(), rows[0].end(), name) - rows[0].begin());
+  };
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const int nt = rows[i][column("sweep")] == "bs_antennas" ? 64 : 16;
+    const double bound = losmimo::placement::orthogonal_capacity_bps_hz(16, nt, 0.1, losmimo::placement::CapPower::kEqual);
+    // THEN: named in trials.csv, converged, and its sum rate within 1 % of the bound
+    EXPECT_EQ(rows[i][column("algorithm")], "cap");
+    EXPECT_EQ(rows[i][column("converged")], "1");
+    EXPECT_GT(std::stod(rows[i][column("sum_rate_zf_bps_hz")]) / bound, 0.99) << "row " << i;
   }
   fs::remove_all(dir);
 }

@@ -94,6 +94,23 @@ TEST(OneEngine, AlgorithmStopRules_ActInTheCoevaluation) {
   for (const experiment::TrialRecord& r : records) EXPECT_EQ(r.status, "iteration_cap") << r.algorithm;
 }
 
+TEST(OneEngine, CapEkf_RunsTheCapacityPlannerUnderItsOwnStopRule) {
+  // GIVEN: the capacity planner from EKF beliefs, a [cap] iteration cap below what it needs
+  const std::vector<experiment::TrialRecord> capped = run_beacon_noise_trial(
+      settings("0.1", {"coevaluation.algorithms=cap_ekf", "cap.max_iterations=4", "placement.target_icn=0.999"}), 0, 0);
+  // THEN: it stops at [cap]'s cap
+  EXPECT_EQ(record_of(capped, "cap_ekf").iterations, 4);
+  EXPECT_EQ(record_of(capped, "cap_ekf").status, "iteration_cap");
+  // GIVEN: the default stop rule at beacon noise 0.1 m; THEN: it converges at the capacity bound
+  const experiment::ExperimentSettings s = settings("0.1", {"coevaluation.algorithms=cap_ekf"});
+  const double bound = 16.0 * std::log2(1.0 + 10.0 * 16.0);  // placement/capacity.h, 10 dB, 16 x 16
+  for (int trial = 0; trial < 2; ++trial) {
+    const experiment::TrialRecord r = record_of(run_beacon_noise_trial(s, 0, trial), "cap_ekf");
+    EXPECT_TRUE(r.converged) << "trial " << trial;
+    EXPECT_GT(r.sum_rate_zf_bps_hz / bound, 0.99) << "trial " << trial;
+  }
+}
+
 TEST(OneEngine, GdEkfWithPerfectSensors_FollowsTheOpenLoopGdWithPerfectKnowledge) {
   // GIVEN: no beacon noise (angle nor range), exact dead reckoning, no outage, no actuation
   // error; the filter assumes its noise floors (1e-6 rad, 1 mm, 0.1 mm per displacement).

@@ -277,15 +277,18 @@ std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::Ex
              kPairedIterationsDiff});
         break;
       }
-      case CoevalAlgorithm::kUraEkf: {
+      case CoevalAlgorithm::kUraEkf:
+      case CoevalAlgorithm::kCapEkf: {
+        // The planner's believed positions are the EKF's (the same per-UAV source for both).
         const localization::SimulatorConfig sim = simulator_config(c, scenario, v);
         EkfPositionSource source(scenario, sim, filter_config(c, sim), scenario.num_uavs, seed);
         placement::Swarm swarm(model, start, p.errors, seed);
         swarm.set_position_estimator([&source](int m, const Eigen::Vector3d& q) { return source.estimate(m, q); });
-        const experiment::Algorithm ura = experiment::ura_algorithm_of(c.ura_variant);
-        const std::unique_ptr<placement::Planner> planner = experiment::make_planner(p, ura);
+        const experiment::Algorithm planned =
+            a == CoevalAlgorithm::kCapEkf ? experiment::Algorithm::kCap : experiment::ura_algorithm_of(c.ura_variant);
+        const std::unique_ptr<placement::Planner> planner = experiment::make_planner(p, planned);
         const placement::RunResult run =
-            placement::run_placement(*planner, swarm, experiment::run_options_of(p, ura, s.placement.run));
+            placement::run_placement(*planner, swarm, experiment::run_options_of(p, planned, s.placement.run));
         source.set_metrics(record(run));  // after the run: the source's statistics are the run's
         break;
       }

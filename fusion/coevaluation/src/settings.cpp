@@ -23,7 +23,7 @@ const std::string kSection = "coevaluation";
 constexpr CoevalAlgorithm kAll[] = {
     CoevalAlgorithm::kGdGauss, CoevalAlgorithm::kGdGaussMatched, CoevalAlgorithm::kGdEkf,  CoevalAlgorithm::kGdEkfNoFallback,
     CoevalAlgorithm::kGdPf,    CoevalAlgorithm::kGdEkfCeres, CoevalAlgorithm::kBf,
-    CoevalAlgorithm::kUraEkf,  CoevalAlgorithm::kCentralized};
+    CoevalAlgorithm::kUraEkf,  CoevalAlgorithm::kCentralized, CoevalAlgorithm::kCapEkf};
 // The outage sweep runs the closed loop only: the point is what the fallback does.
 constexpr CoevalAlgorithm kOutageAllowed[] = {CoevalAlgorithm::kGdEkf, CoevalAlgorithm::kGdEkfNoFallback,
                                               CoevalAlgorithm::kGdPf, CoevalAlgorithm::kGdEkfCeres};
@@ -132,6 +132,7 @@ std::string to_string(CoevalAlgorithm a) {
     case CoevalAlgorithm::kBf: return "bf";
     case CoevalAlgorithm::kUraEkf: return "ura_ekf";
     case CoevalAlgorithm::kCentralized: return "centralized";
+    case CoevalAlgorithm::kCapEkf: return "cap_ekf";
   }
   return "?";
 }

@@ -34,13 +34,14 @@ int point_index(const ExperimentSettings& s, const std::string& sweep, double va
   return -1;
 }
 
-// The algorithms a reading can change: its keys' sections [gd], [bf], [ura] name one (their
+// The algorithms a reading can change: its keys' sections [gd], [bf], [ura], [cap] name one (their
 // planner options and stop rules reach no other planner); any other section, all of them.
 bool changes(const ReadingSpec& r, Algorithm a) {
   for (const auto& [name, value] : r.assignments) {
     const std::string section = name.substr(0, name.find('.'));
     if (section == "gd" && a != Algorithm::kGd) continue;
     if (section == "bf" && a != Algorithm::kBf) continue;
+    if (section == "cap" && a != Algorithm::kCap) continue;
     if (section == "ura" && a != Algorithm::kUra && a != Algorithm::kUraLattice && a != Algorithm::kUraLatticeExact) continue;
     return true;
   }

@@ -74,6 +74,7 @@ const char* algorithm_color(Algorithm a) {
     case Algorithm::kUra: return "#2ca02c";
     case Algorithm::kUraLattice: return "#ff7f0e";
     case Algorithm::kUraLatticeExact: return "#9467bd";
+    case Algorithm::kCap: return "#8c564b";
     case Algorithm::kRandom: return "#7f7f7f";
   }
   return "#000000";

@@ -15,7 +15,7 @@ namespace losmimo::experiment {
 namespace {
 constexpr Algorithm kAllAlgorithms[] = {Algorithm::kRandom, Algorithm::kGd, Algorithm::kBf,
                                         Algorithm::kUra, Algorithm::kUraLattice,
-                                        Algorithm::kUraLatticeExact};
+                                        Algorithm::kUraLatticeExact, Algorithm::kCap};
 
 const ExperimentExtension* find_extension(const ExperimentExtensions& extensions, const std::string& sweep) {
   for (const ExperimentExtension& e : extensions) {
@@ -33,6 +33,7 @@ std::string to_string(Algorithm a) {
     case Algorithm::kUra: return "ura";
     case Algorithm::kUraLattice: return "ura_lattice";
     case Algorithm::kUraLatticeExact: return "ura_lattice_exact";
+    case Algorithm::kCap: return "cap";
   }
   return "?";
 }
@@ -41,7 +42,7 @@ Algorithm algorithm_from_string(const std::string& name, const std::string& wher
   for (const Algorithm a : kAllAlgorithms) {
     if (to_string(a) == name) return a;
   }
-  throw common::InputError(where + ": unknown algorithm '" + name + "' (known: random, gd, bf, ura, ura_lattice, ura_lattice_exact)");
+  throw common::InputError(where + ": unknown algorithm '" + name + "' (known: random, gd, bf, ura, ura_lattice, ura_lattice_exact, cap)");
 }
 
 std::string ReadingSpec::text() const {
@@ -170,8 +171,8 @@ std::vector<common::Key<ExperimentSettings>> experiment_key_list() {
               [](const ExperimentSettings& s) {
                 return join_names(s.algorithms, [](Algorithm a) { return to_string(a); });
               },
-              "comma-separated: random, gd, bf, ura, ura_lattice, ura_lattice_exact",
-              "the built-in sweeps' algorithms (default: all but ura_lattice_exact)", "gd, bf"),
+              "comma-separated: random, gd, bf, ura, ura_lattice, ura_lattice_exact, cap",
+              "the built-in sweeps' algorithms (default: all but ura_lattice_exact and cap)", "gd, bf"),
       K::integer("experiment", "fig1_trials", &ExperimentSettings::fig1_trials, 0, 10000,
                  "traced runs per algorithm for Fig 1 (no errors)", "2"),
       K::integer("experiment", "threads", &ExperimentSettings::threads, 0, 1024,

@@ -6,6 +6,7 @@
 #include <limits>
 #include <memory>
 
+#include "losmimo/placement/capacity.h"
 #include "losmimo/placement/metrics.h"
 #include "losmimo/placement/ura.h"
 
@@ -33,6 +34,7 @@ std::unique_ptr<placement::Planner> make_planner(const placement::PlacementSetti
   switch (a) {
     case Algorithm::kGd: return std::make_unique<placement::GradientDescentPlanner>(p.scenario, p.gd);
     case Algorithm::kBf: return std::make_unique<placement::BruteForcePlanner>(p.scenario, p.bf);
+    case Algorithm::kCap: return std::make_unique<placement::CapacityPlanner>(p.scenario, p.cap);
     case Algorithm::kUra:
     case Algorithm::kUraLattice:
     case Algorithm::kUraLatticeExact: return std::make_unique<placement::UraPlanner>(p.scenario, ura_variant_of(a), p.ura);
@@ -62,6 +64,7 @@ placement::RunOptions run_options_of(const placement::PlacementSettings& p, Algo
   switch (a) {
     case Algorithm::kGd: run = placement::with_override(run, p.gd_run); break;
     case Algorithm::kBf: run = placement::with_override(run, p.bf_run); break;
+    case Algorithm::kCap: run = placement::with_override(run, p.cap_run); break;
     case Algorithm::kUra:
     case Algorithm::kUraLattice:
     case Algorithm::kUraLatticeExact: run = placement::with_override(run, p.ura_run); break;

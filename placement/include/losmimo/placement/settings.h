@@ -1,8 +1,9 @@
 #pragma once
 // The placement settings an INI config holds, with the paper's values as defaults: sections
 // [scenario] (Scenario), [errors] (ErrorModel), [placement] (RunOptions), [gd] (GdOptions),
-// [bf] (BfOptions), [ura] (UraOptions) and [channel] (ChannelSettings: Rician fading, CSI
-// estimation noise), plus per-algorithm stop rules in [gd], [bf] and [ura] (RunOverride). Every
+// [bf] (BfOptions), [ura] (UraOptions), [cap] (CapOptions) and [channel] (ChannelSettings:
+// Rician fading, CSI estimation noise), plus per-algorithm stop rules in [gd], [bf], [ura] and
+// [cap] (RunOverride). Every
 // key, with its field, accepted values and meaning, is declared once in the key table in
 // settings.cpp (placement_keys(); common/key_table.h). Keys beyond the paper setup are written
 // only when not at their default: the text of the defaults (paper.ini, every recorded rawlog's
@@ -15,6 +16,7 @@
 #include "losmimo/common/ini_config.h"
 #include "losmimo/common/key_table.h"
 #include "losmimo/placement/bf.h"
+#include "losmimo/placement/capacity.h"
 #include "losmimo/placement/channel_conditions.h"
 #include "losmimo/placement/gd.h"
 #include "losmimo/placement/ura.h"
@@ -40,6 +42,8 @@ struct PlacementSettings {
   RunOverride bf_run;
   RunOverride ura_run;
   ChannelSettings channel;
+  CapOptions cap;
+  RunOverride cap_run;
 };
 
 // The key table: one entry per key (section, key, field, accepted values, meaning).

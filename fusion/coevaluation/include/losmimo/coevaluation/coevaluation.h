@@ -87,6 +87,7 @@ enum class CoevalAlgorithm {
   kBf,
   kUraEkf,
   kCentralized,
+  kCapEkf,  // the capacity planner (placement/capacity.h) from EKF beliefs; not in the default list
 };
 std::string to_string(CoevalAlgorithm algorithm);
 

@@ -18,9 +18,10 @@
 namespace losmimo::experiment {
 
 // The built-in placement algorithms.
-// kUraLatticeExact ("ura_lattice_exact", ura.h) is not in the default list: the paper has no such
-// baseline; it is there for large arrays (256 UAVs), where the paraxial lattice stops below 0.95.
-enum class Algorithm { kRandom, kGd, kBf, kUra, kUraLattice, kUraLatticeExact };
+// Not in the default list, as the paper has no such algorithm: kUraLatticeExact
+// ("ura_lattice_exact", ura.h), for large arrays (256 UAVs), where the paraxial lattice stops
+// below 0.95; kCap ("cap", placement/capacity.h), the follow-up paper's capacity ascent.
+enum class Algorithm { kRandom, kGd, kBf, kUra, kUraLattice, kUraLatticeExact, kCap };
 std::string to_string(Algorithm a);
 // Throws common::InputError naming `where` for an unknown name.
 Algorithm algorithm_from_string(const std::string& name, const std::string& where);

@@ -78,13 +78,13 @@ std::uint64_t trial_seed(const ExperimentSettings& settings, const std::string& 
 std::uint64_t trial_scatter_seed(const ExperimentSettings& settings, int trial);
 std::uint64_t trial_fading_eval_seed(const ExperimentSettings& settings, int trial);
 
-// The experiment's planner of algorithm a under placement settings p ([gd], [bf], [ura]
+// The experiment's planner of algorithm a under placement settings p ([gd], [bf], [ura], [cap]
 // options); nullptr for kRandom (the start is the result).
 std::unique_ptr<placement::Planner> make_planner(const placement::PlacementSettings& p, Algorithm a);
 // The URA variant of a URA algorithm (kRigid for any other) and the algorithm of a variant.
 placement::UraVariant ura_variant_of(Algorithm a);
 Algorithm ura_algorithm_of(placement::UraVariant variant);
-// The stop rule algorithm a runs under: `run` with the algorithm's own [gd] / [bf] / [ura]
+// The stop rule algorithm a runs under: `run` with the algorithm's own [gd] / [bf] / [ura] / [cap]
 // target_icn and max_iterations where set (kRandom: 0 iterations), noise variance the scenario's.
 placement::RunOptions run_options_of(const placement::PlacementSettings& p, Algorithm a, placement::RunOptions run);
 
