@@ -361,7 +361,7 @@ std::string vector_text(const Eigen::MatrixXd& m) {
 // The rawlog's records as text: every epoch's measurements, beliefs and modes, the final
 // positions and the run's end. Not the CONFIG object (it echoes the settings).
 std::string mission_records(const std::string& path) {
-  rawlog::RawlogReader reader = rawlog::RawlogReader::open_file(path);
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::open_file(path);
   const rawlog::MissionLog log = rawlog::load_mission_log(reader);
   std::ostringstream s;
   s.precision(17);
