@@ -9,9 +9,9 @@
 #include <stdexcept>
 
 #include "losmimo/common/field_error.h"
-#include "losmimo/localization/beacon_model.h"
-#include "losmimo/localization/initial_belief.h"
-#include "losmimo/localization/robustness.h"
+#include "losmimo/localization/position/beacon_model.h"
+#include "losmimo/localization/position/initial_belief.h"
+#include "losmimo/localization/position/robustness.h"
 
 namespace losmimo::fusion {
 

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "losmimo/localization/filter.h"
+#include "losmimo/localization/position/filter.h"
 
 namespace losmimo::localization {
 namespace {
