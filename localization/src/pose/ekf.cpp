@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "losmimo/localization/filter_health.h"
+#include "losmimo/localization/kalman.h"
 #include "losmimo/localization/position/beacon_model.h"
 #include "losmimo/localization/pose/initial_pose.h"
 #include "losmimo/localization/pose/robustness.h"
@@ -31,10 +33,7 @@ class EkfPoseFilter::Mrpt final
  public:
   Mrpt(const PoseFilterConfig& config, const BeaconMap& beacons, const InitialPose& initial)
       : config_(config), beacons_(beacons) {
-    KF_options.method = mrpt::bayes::kfEKFNaive;
-    KF_options.use_analytic_transition_jacobian = true;
-    KF_options.use_analytic_observation_jacobian = true;
-    KF_options.enable_profiler = false;
+    configure_ekf(KF_options);
     m_xkk.resize(kStateSize);
     m_pkk.setSize(kStateSize, kStateSize);
     const PoseBelief start = moments(initial);
@@ -186,9 +185,7 @@ class EkfPoseFilter::Mrpt final
 
   void repair() {
     Eigen::Matrix4d P = cov();
-    if (!P.allFinite() || !mean().allFinite()) ++counters_.non_finite_state;
-    const double fallback = config_.filter.missing_displacement_sigma_m * config_.filter.missing_displacement_sigma_m;
-    if (make_spd(P, config_.filter.min_variance_m2, fallback)) ++counters_.covariance_repairs;
+    repair_covariance<4>(mean(), P, config_.filter, counters_);
     m_pkk.asEigen() = P;
   }
 

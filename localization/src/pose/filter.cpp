@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "losmimo/localization/filter_health.h"
 #include "losmimo/localization/pose/initial_pose.h"
 #include "losmimo/localization/pose/ekf.h"
 #include "losmimo/localization/pose/particle_filter.h"
@@ -46,33 +47,7 @@ Belief PoseBelief::position() const {
 }
 
 std::optional<std::string> health_problem(const PoseBelief& belief) {
-  std::ostringstream msg;
-  for (int i = 0; i < kPoseSize; ++i) {
-    if (!std::isfinite(belief.mean(i))) {
-      msg << "mean(" << i << ") = " << belief.mean(i);
-      return msg.str();
-    }
-  }
-  for (int i = 0; i < kPoseSize; ++i) {
-    for (int j = 0; j < kPoseSize; ++j) {
-      if (!std::isfinite(belief.cov(i, j))) {
-        msg << "cov(" << i << ", " << j << ") = " << belief.cov(i, j);
-        return msg.str();
-      }
-    }
-  }
-  for (int i = 0; i < kPoseSize; ++i) {
-    if (belief.cov(i, i) < 0.0) {
-      msg << "cov(" << i << ", " << i << ") = " << belief.cov(i, i) << " < 0";
-      return msg.str();
-    }
-  }
-  const double asymmetry = (belief.cov - belief.cov.transpose()).cwiseAbs().maxCoeff();
-  if (asymmetry > 1e-9 * (1.0 + belief.cov.cwiseAbs().maxCoeff())) {
-    msg << "cov is asymmetric (max |P - P^T| = " << asymmetry << ")";
-    return msg.str();
-  }
-  return std::nullopt;
+  return moments_problem<4>(belief.mean, belief.cov, "mean", "cov");
 }
 
 double range_sigma_m(const PoseFilterConfig& config, const BeaconRangeScan& scan) {
@@ -81,20 +56,11 @@ double range_sigma_m(const PoseFilterConfig& config, const BeaconRangeScan& scan
   return std::max(sigma_m, config.filter.min_sigma_range_m);
 }
 
-std::optional<std::string> health_problem(const PoseFilter& filter) {
-  if (std::optional<std::string> problem = health_problem(filter.belief())) return problem;
-  const std::int64_t n = filter.counters().non_finite_state;
-  if (n > 0) return "state became non-finite in " + std::to_string(n) + " epoch(s), covariance reset";
-  return std::nullopt;
-}
+std::optional<std::string> health_problem(const PoseFilter& filter) { return filter_health_problem(filter); }
 
 std::unique_ptr<PoseFilter> make_pose_filter(FilterKind kind, const PoseFilterConfig& config, const BeaconMap& beacons,
                                              const InitialPose& initial, std::uint64_t seed) {
-  switch (kind) {
-    case FilterKind::kEkf: return std::make_unique<EkfPoseFilter>(config, beacons, initial);
-    case FilterKind::kParticle: return std::make_unique<ParticlePoseFilter>(config, beacons, initial, seed);
-  }
-  throw std::invalid_argument("filter kind: unknown");
+  return make_filter_of_kind<PoseFilter, EkfPoseFilter, ParticlePoseFilter>(kind, seed, config, beacons, initial);
 }
 
 }  // namespace losmimo::localization

@@ -11,7 +11,7 @@
 #include "losmimo/localization/position/beacon_model.h"
 #include "losmimo/localization/pose/initial_pose.h"
 #include "losmimo/localization/optimal_proposal.h"
-#include "losmimo/localization/position/particle_filter.h"
+#include "losmimo/localization/particles.h"
 #include "losmimo/localization/pose/robustness.h"
 #include "losmimo/localization/resampling.h"
 
@@ -138,10 +138,7 @@ class ParticlePoseFilter::Mrpt final : public PoseParticles,
  public:
   Mrpt(const PoseFilterConfig& config, const BeaconMap& beacons, const InitialPose& initial, std::uint64_t seed)
       : config_(config), beacons_(beacons), rng_(fold_seed(seed)) {
-    pf_.m_options.PF_algorithm = mrpt::bayes::CParticleFilter::pfStandardProposal;
-    pf_.m_options.sampleSize = static_cast<unsigned int>(config.filter.num_particles);
-    pf_.m_options.adaptiveSampleSize = false;
-    pf_.m_options.BETA = 0.0;  // MRPT's own (global-generator) resampling never runs
+    configure_particle_filter(pf_, config.filter);
     m_particles.resize(static_cast<std::size_t>(config.filter.num_particles));
     for (auto& p : m_particles) {
       p.d = sample_initial_pose(initial, rng_);
@@ -248,30 +245,20 @@ class ParticlePoseFilter::Mrpt final : public PoseParticles,
 
   void current_moments(Eigen::Vector4d& mean, Eigen::Matrix4d& cov) const {
     std::vector<Eigen::Vector4d> poses;
-    std::vector<double> log_w;
     poses.reserve(m_particles.size());
-    log_w.reserve(m_particles.size());
-    for (const auto& p : m_particles) {
-      poses.push_back(p.d);
-      log_w.push_back(p.log_w);
-    }
-    pose_moments(poses, normalized_weights(log_w), mean, cov);
+    for (const auto& p : m_particles) poses.push_back(p.d);
+    pose_moments(poses, normalized_weights(log_weights(m_particles)), mean, cov);
   }
 
   void resample() {
     Eigen::Vector4d mean;
     Eigen::Matrix4d cov;
     current_moments(mean, cov);
-    std::vector<double> log_w;
-    log_w.reserve(m_particles.size());
-    for (const auto& p : m_particles) log_w.push_back(p.log_w);
-    performSubstitution(resampling_indices(config_.filter.resampling, log_w, rng_));
-    for (auto& p : m_particles) p.log_w = 0.0;
-    ++counters_.resamplings;
+    resample_particles(*this, config_.filter.resampling, rng_, counters_);
     const double h = config_.filter.regularization_bandwidth;
     if (h <= 0.0) return;
     // Liu-West jitter (position/particle_filter.h), deviations about the (circular) mean.
-    make_spd(cov, config_.filter.min_variance_m2, fallback_variance());
+    make_spd<4>(cov, config_.filter.min_variance_m2, fallback_variance_m2(config_.filter));
     const Eigen::Matrix4d L = cov.llt().matrixL();
     const double a = std::sqrt(1.0 - h * h);
     for (auto& p : m_particles) {
@@ -281,14 +268,9 @@ class ParticlePoseFilter::Mrpt final : public PoseParticles,
     }
   }
 
-  double fallback_variance() const {
-    return config_.filter.missing_displacement_sigma_m * config_.filter.missing_displacement_sigma_m;
-  }
-
   void update_belief() {
     current_moments(belief_.mean, belief_.cov);
-    if (!belief_.cov.allFinite() || !belief_.mean.allFinite()) ++counters_.non_finite_state;
-    if (make_spd(belief_.cov, config_.filter.min_variance_m2, fallback_variance())) ++counters_.covariance_repairs;
+    repair_covariance<4>(belief_.mean, belief_.cov, config_.filter, counters_);
     apply_health(config_, epochs_since_beacon_, belief_);
   }
 

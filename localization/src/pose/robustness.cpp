@@ -85,20 +85,6 @@ RangeUpdatePlan plan_range_update(const PoseFilterConfig& config, const BeaconMa
   return plan;
 }
 
-bool make_spd(Eigen::Matrix4d& P, double min_variance, double fallback_variance) {
-  if (!P.allFinite()) {
-    P = fallback_variance * Eigen::Matrix4d::Identity();
-    return true;
-  }
-  P = 0.5 * (P + P.transpose()).eval();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(P);
-  const Eigen::Vector4d lambda = eig.eigenvalues();
-  if (lambda.minCoeff() >= min_variance) return false;
-  P = eig.eigenvectors() * lambda.cwiseMax(min_variance).asDiagonal() * eig.eigenvectors().transpose();
-  P = 0.5 * (P + P.transpose()).eval();
-  return true;
-}
-
 OdometryIncrement screen_odometry(const PoseFilterConfig& config, const OdometryIncrement& odometry,
                                   FilterCounters& counters) {
   const double f_m = config.filter.min_sigma_displacement_m;
@@ -121,10 +107,7 @@ OdometryIncrement screen_odometry(const PoseFilterConfig& config, const Odometry
 
 void apply_health(const PoseFilterConfig& config, int epochs_since_beacon, PoseBelief& belief) {
   belief.epochs_since_beacon = epochs_since_beacon;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(belief.cov.topLeftCorner<3, 3>(), Eigen::EigenvaluesOnly);
-  const double max_sigma_m = std::sqrt(std::max(eig.eigenvalues().maxCoeff(), 0.0));
-  belief.degraded = epochs_since_beacon >= config.filter.degraded_after_epochs ||
-                    !(max_sigma_m <= config.filter.degraded_sigma_m);
+  belief.degraded = is_degraded(config.filter, epochs_since_beacon, belief.cov.topLeftCorner<3, 3>());
 }
 
 }  // namespace losmimo::localization

@@ -5,6 +5,8 @@
 #include <Eigen/Cholesky>
 #include <cmath>
 
+#include "losmimo/localization/filter_health.h"
+#include "losmimo/localization/kalman.h"
 #include "losmimo/localization/position/beacon_model.h"
 #include "losmimo/localization/position/robustness.h"
 
@@ -25,10 +27,7 @@ class EkfPositionFilter::Mrpt final
  public:
   Mrpt(const FilterConfig& config, const Belief& initial)
       : config_(config), epochs_since_beacon_(initial.epochs_since_beacon) {
-    KF_options.method = mrpt::bayes::kfEKFNaive;
-    KF_options.use_analytic_transition_jacobian = true;
-    KF_options.use_analytic_observation_jacobian = true;
-    KF_options.enable_profiler = false;
+    configure_ekf(KF_options);
     m_xkk.resize(kStateSize);
     m_pkk.setSize(kStateSize, kStateSize);
     set_state(initial.mean_m, initial.cov_m2);
@@ -133,17 +132,11 @@ class EkfPositionFilter::Mrpt final
       const Eigen::Matrix3d A = Eigen::Matrix3d::Identity() - K * H_;
       m_pkk.asEigen() = A * P_pred_m2_ * A.transpose() + K * R * K.transpose();
     } else if (verdict_ == BeaconVerdict::kReset) {
-      const Belief fix = beacon_fix(*beacon_,
-                                    std::max(config_.noise.sigma_range_m, config_.min_sigma_range_m),
-                                    std::max(config_.noise.sigma_angle_rad, config_.min_sigma_angle_rad));
+      const Belief fix = floored_beacon_fix(config_, *beacon_);
       set_state(fix.mean_m, fix.cov_m2);
     }
     Eigen::Matrix3d P = cov_m2();
-    if (!P.allFinite() || !mean_m().allFinite()) ++counters_.non_finite_state;
-    if (make_spd(P, config_.min_variance_m2, config_.missing_displacement_sigma_m *
-                                                 config_.missing_displacement_sigma_m)) {
-      ++counters_.covariance_repairs;
-    }
+    repair_covariance<3>(mean_m(), P, config_, counters_);
     m_pkk.asEigen() = P;
   }
 

@@ -1,4 +1,3 @@
-#include "losmimo/common/seed.h"
 #include "losmimo/localization/position/particle_filter.h"
 
 #include <mrpt/bayes/CParticleFilter.h>
@@ -12,6 +11,7 @@
 
 #include "losmimo/localization/position/beacon_model.h"
 #include "losmimo/localization/optimal_proposal.h"
+#include "losmimo/localization/particles.h"
 #include "losmimo/localization/resampling.h"
 #include "losmimo/localization/position/robustness.h"
 
@@ -27,10 +27,7 @@ constexpr double kMinProposalRho_m = 1e-9;
 // with iterators (deque indexing is slow), accumulating about the first particle for accuracy.
 void moments(const ParticleData::CParticleList& particles, Eigen::Vector3d& mean_m,
              Eigen::Matrix3d& cov_m2) {
-  std::vector<double> log_w;
-  log_w.reserve(particles.size());
-  for (const auto& p : particles) log_w.push_back(p.log_w);
-  const std::vector<double> w = normalized_weights(log_w);
+  const std::vector<double> w = normalized_weights(log_weights(particles));
   const Eigen::Vector3d origin_m = particles.front().d;
   Eigen::Vector3d first = Eigen::Vector3d::Zero();
   Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
@@ -81,12 +78,6 @@ struct WhitenedBeacon {
 
 }  // namespace
 
-std::uint32_t fold_seed(std::uint64_t seed) {
-  // splitmix64: nearby seeds (trial 0, 1, 2...) give unrelated generator states.
-  const std::uint64_t z = common::splitmix64(seed);
-  return static_cast<std::uint32_t>(z ^ (z >> 32U));
-}
-
 // The particle set MRPT's CParticleFilter runs on. The epoch's inputs are set before
 // executeOn(); MRPT's action/observation pointers are unused (nullptr), which keeps
 // mrpt::obs out of this library.
@@ -96,12 +87,7 @@ class ParticlePositionFilter::Mrpt final
  public:
   Mrpt(const FilterConfig& config, const Belief& initial, std::uint64_t seed)
       : config_(config), rng_(fold_seed(seed)), epochs_since_beacon_(initial.epochs_since_beacon) {
-    pf_.m_options.PF_algorithm = mrpt::bayes::CParticleFilter::pfStandardProposal;
-    pf_.m_options.sampleSize = static_cast<unsigned int>(config.num_particles);
-    pf_.m_options.adaptiveSampleSize = false;
-    pf_.m_options.resamplingMethod = to_mrpt(config.resampling);
-    // ESS() is never < 0: MRPT's own (global-generator) resampling never runs; see header.
-    pf_.m_options.BETA = 0.0;
+    configure_particle_filter(pf_, config);
     draw_from(initial.mean_m, initial.cov_m2);
     update_belief();
   }
@@ -167,30 +153,16 @@ class ParticlePositionFilter::Mrpt final
       for (int a = 0; a < 3; ++a) p.d(a) += u_m_(a) + sigma_q_m_ * rng_.drawGaussian1D_normalized();
     }
     if (verdict_ == BeaconVerdict::kReset) {
-      reset_belief_ = beacon_fix(*beacon_,
-                                 std::max(config_.noise.sigma_range_m, config_.min_sigma_range_m),
-                                 std::max(config_.noise.sigma_angle_rad, config_.min_sigma_angle_rad));
+      reset_belief_ = floored_beacon_fix(config_, *beacon_);
     }
   }
 
  private:
-  static mrpt::bayes::CParticleFilter::TParticleResamplingAlgorithm to_mrpt(
-      ResamplingMethod method) {
-    switch (method) {
-      case ResamplingMethod::kMultinomial: return mrpt::bayes::CParticleFilter::prMultinomial;
-      case ResamplingMethod::kResidual: return mrpt::bayes::CParticleFilter::prResidual;
-      case ResamplingMethod::kStratified: return mrpt::bayes::CParticleFilter::prStratified;
-      case ResamplingMethod::kSystematic: return mrpt::bayes::CParticleFilter::prSystematic;
-    }
-    return mrpt::bayes::CParticleFilter::prSystematic;
-  }
-
   // Replaces the cloud by N equally weighted draws from N(mean, cov).
   void draw_from(const Eigen::Vector3d& mean_m, const Eigen::Matrix3d& cov_m2) {
     if (!cov_m2.allFinite() || !mean_m.allFinite()) ++counters_.non_finite_state;
     Eigen::Matrix3d P = cov_m2;
-    make_spd(P, config_.min_variance_m2, config_.missing_displacement_sigma_m *
-                                             config_.missing_displacement_sigma_m);
+    make_spd<3>(P, config_.min_variance_m2, fallback_variance_m2(config_));
     const Eigen::Matrix3d L = P.llt().matrixL();
     m_particles.resize(static_cast<std::size_t>(config_.num_particles));
     for (auto& p : m_particles) {
@@ -205,18 +177,12 @@ class ParticlePositionFilter::Mrpt final
     Eigen::Vector3d mean_m;
     Eigen::Matrix3d cov_m2;
     moments(m_particles, mean_m, cov_m2);
-    std::vector<double> log_w;
-    log_w.reserve(m_particles.size());
-    for (const auto& p : m_particles) log_w.push_back(p.log_w);
-    performSubstitution(resampling_indices(config_.resampling, log_w, rng_));
-    for (auto& p : m_particles) p.log_w = 0.0;
-    ++counters_.resamplings;
+    resample_particles(*this, config_.resampling, rng_, counters_);
     const double h = config_.regularization_bandwidth;
     if (h <= 0.0) return;
     // Liu-West kernel jitter: shrink towards the mean by a = sqrt(1 - h^2) and add h L n, so
     // the cloud keeps its mean and covariance but duplicates become distinct particles.
-    make_spd(cov_m2, config_.min_variance_m2, config_.missing_displacement_sigma_m *
-                                                  config_.missing_displacement_sigma_m);
+    make_spd<3>(cov_m2, config_.min_variance_m2, fallback_variance_m2(config_));
     const Eigen::Matrix3d L = cov_m2.llt().matrixL();
     const double a = std::sqrt(1.0 - h * h);
     for (auto& p : m_particles) {
@@ -228,11 +194,7 @@ class ParticlePositionFilter::Mrpt final
 
   void update_belief() {
     moments(m_particles, belief_.mean_m, belief_.cov_m2);
-    if (!belief_.cov_m2.allFinite() || !belief_.mean_m.allFinite()) ++counters_.non_finite_state;
-    if (make_spd(belief_.cov_m2, config_.min_variance_m2,
-                 config_.missing_displacement_sigma_m * config_.missing_displacement_sigma_m)) {
-      ++counters_.covariance_repairs;
-    }
+    repair_covariance<3>(belief_.mean_m, belief_.cov_m2, config_, counters_);
     apply_health(config_, epochs_since_beacon_, belief_);
   }
 

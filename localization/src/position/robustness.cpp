@@ -38,19 +38,9 @@ double mahalanobis2(const Eigen::Vector3d& y, const Eigen::Matrix3d& S) {
   return y.dot(llt.solve(y));
 }
 
-bool make_spd(Eigen::Matrix3d& P, double min_variance_m2, double fallback_variance_m2) {
-  if (!P.allFinite()) {
-    P = fallback_variance_m2 * Eigen::Matrix3d::Identity();
-    return true;
-  }
-  P = 0.5 * (P + P.transpose()).eval();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(P);
-  const Eigen::Vector3d lambda = eig.eigenvalues();
-  if (lambda.minCoeff() >= min_variance_m2) return false;
-  const Eigen::Vector3d floored = lambda.cwiseMax(min_variance_m2);
-  P = eig.eigenvectors() * floored.asDiagonal() * eig.eigenvectors().transpose();
-  P = 0.5 * (P + P.transpose()).eval();
-  return true;
+Belief floored_beacon_fix(const FilterConfig& config, const BeaconMeasurement& z) {
+  return beacon_fix(z, std::max(config.noise.sigma_range_m, config.min_sigma_range_m),
+                    std::max(config.noise.sigma_angle_rad, config.min_sigma_angle_rad));
 }
 
 bool is_plausible(const FilterConfig& config, const BeaconMeasurement& z) {
@@ -107,11 +97,7 @@ BeaconVerdict screen_beacon(const FilterConfig& config,
 
 void apply_health(const FilterConfig& config, int epochs_since_beacon, Belief& belief) {
   belief.epochs_since_beacon = epochs_since_beacon;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(belief.cov_m2,
-                                                           Eigen::EigenvaluesOnly);
-  const double max_sigma_m = std::sqrt(std::max(eig.eigenvalues().maxCoeff(), 0.0));
-  belief.degraded = epochs_since_beacon >= config.degraded_after_epochs ||
-                    !(max_sigma_m <= config.degraded_sigma_m);
+  belief.degraded = is_degraded(config, epochs_since_beacon, belief.cov_m2);
 }
 
 }  // namespace losmimo::localization

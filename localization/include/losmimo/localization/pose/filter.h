@@ -42,7 +42,8 @@
 
 #include <Eigen/Core>
 
-#include "losmimo/localization/position/filter.h"
+#include "losmimo/localization/filter_config.h"
+#include "losmimo/localization/filter_counters.h"
 #include "losmimo/localization/position/measurements.h"
 #include "losmimo/localization/pose/odometry_model.h"
 #include "losmimo/localization/pose/range_model.h"

@@ -31,7 +31,7 @@
 #include <Eigen/Core>
 #include <mrpt/random/RandomGenerators.h>
 
-#include "losmimo/localization/position/filter.h"
+#include "losmimo/localization/filter_config.h"
 #include "losmimo/localization/pose/filter.h"
 #include "losmimo/localization/pose/range_fix.h"
 #include "losmimo/localization/pose/range_model.h"

@@ -33,7 +33,8 @@
 
 #include <Eigen/Core>
 
-#include "losmimo/localization/position/filter.h"
+#include "losmimo/localization/filter_config.h"
+#include "losmimo/localization/filter_counters.h"
 #include "losmimo/placement/scenario.h"
 
 namespace losmimo::localization {

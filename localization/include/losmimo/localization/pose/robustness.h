@@ -9,7 +9,9 @@
 
 #include <Eigen/Core>
 
-#include "losmimo/localization/position/filter.h"
+#include "losmimo/localization/filter_health.h"
+#include "losmimo/localization/filter_config.h"
+#include "losmimo/localization/filter_counters.h"
 #include "losmimo/localization/pose/filter.h"
 #include "losmimo/localization/pose/range_fix.h"
 #include "losmimo/localization/pose/range_model.h"
@@ -48,11 +50,6 @@ RangeUpdatePlan plan_range_update(const PoseFilterConfig& config, const BeaconMa
                                   const std::vector<BeaconRangeScan>& scans, const Eigen::Vector4d& predicted_mean,
                                   const Eigen::Matrix4d& predicted_cov, int& consecutive_gated_epochs,
                                   FilterCounters& counters);
-
-// Symmetrises P and raises its eigenvalues to at least min_variance; a non-finite P becomes
-// fallback_variance * I. Returns true if anything was changed beyond symmetrisation (the 4x4
-// counterpart of position/robustness.h's make_spd).
-bool make_spd(Eigen::Matrix4d& P, double min_variance, double fallback_variance);
 
 // The odometry noise a pose filter uses (pose/filter.h): the reading, or zero with the missing
 // sigmas if it is not finite (counted), and Sigma_u + the floors on the diagonal.

@@ -29,12 +29,13 @@
 // a = sqrt(1 - h^2), L L^T the pre-resampling covariance: mean and covariance are kept, the
 // duplicates become distinct (h = 0 turns it off).
 // Every random number comes from the filter's own CRandomGenerator,
-// seeded from `seed` (folded to 32 bits by splitmix64: MRPT's generator takes a uint32_t).
+// seeded from `seed` (fold_seed(), particles.h: MRPT's generator takes a uint32_t).
 // Belief: weighted mean and covariance of the particles, made SPD (make_spd).
 
 #include <cstdint>
 #include <memory>
 
+#include "losmimo/localization/particles.h"
 #include "losmimo/localization/position/filter.h"
 
 namespace losmimo::localization {
@@ -60,8 +61,5 @@ class ParticlePositionFilter final : public PositionFilter {
   class Mrpt;
   std::unique_ptr<Mrpt> pf_;
 };
-
-// The 32-bit seed the filter gives MRPT's generator for a 64-bit seed (splitmix64, folded).
-std::uint32_t fold_seed(std::uint64_t seed);
 
 }  // namespace losmimo::localization

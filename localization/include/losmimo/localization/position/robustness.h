@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "losmimo/localization/filter_health.h"
 #include "losmimo/localization/position/filter.h"
 #include "losmimo/localization/position/measurements.h"
 
@@ -33,10 +34,10 @@ Eigen::Matrix3d floored_beacon_cov(const FilterConfig& config);
 // Squared Mahalanobis distance y^T S^-1 y (S SPD; Cholesky solve).
 double mahalanobis2(const Eigen::Vector3d& y, const Eigen::Matrix3d& S);
 
-// Symmetrises P and raises its eigenvalues to at least min_variance_m2. Returns true if any
-// eigenvalue had to be raised (or P had a non-finite entry, in which case P becomes
-// fallback_variance_m2 * I).
-bool make_spd(Eigen::Matrix3d& P, double min_variance_m2, double fallback_variance_m2);
+// make_spd(), the covariance floor, is filter_health.h's (shared with the pose filters).
+
+// The beacon fix the reset rule re-initialises from (beacon_fix() with the floored sigmas).
+Belief floored_beacon_fix(const FilterConfig& config, const BeaconMeasurement& z);
 
 // True when a finite beacon is physically possible: 0 < range_m <= max_beacon_range_m and
 // |wrap_angle_rad(elevation_rad)| <= pi/2. Every finite azimuth is a direction once wrapped,
