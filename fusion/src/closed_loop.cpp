@@ -8,9 +8,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "losmimo/localization/beacon_model.h"
-#include "losmimo/localization/initial_belief.h"
-#include "losmimo/localization/robustness.h"
+#include "losmimo/localization/position/beacon_model.h"
+#include "losmimo/localization/position/initial_belief.h"
+#include "losmimo/localization/position/robustness.h"
 
 namespace losmimo::fusion {
 

@@ -4,8 +4,8 @@
 #include <stdexcept>
 #include <utility>
 
-#include "losmimo/localization/beacon_model.h"
-#include "losmimo/localization/robustness.h"
+#include "losmimo/localization/position/beacon_model.h"
+#include "losmimo/localization/position/robustness.h"
 
 namespace losmimo::fusion {
 

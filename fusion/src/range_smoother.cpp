@@ -10,8 +10,8 @@
 
 #include "losmimo/common/field_error.h"
 #include "losmimo/fusion/pose_cost_functors.h"
-#include "losmimo/localization/beacon_model.h"
-#include "losmimo/localization/range_screening.h"
+#include "losmimo/localization/position/beacon_model.h"
+#include "losmimo/localization/pose/robustness.h"
 #include "solver_options.h"
 
 namespace losmimo::fusion {

@@ -11,6 +11,9 @@
 #include <thread>
 #include <vector>
 
+#include <gtest/gtest.h>
+
+#include "losmimo/common/test_hook.h"
 #include "support/child_process.h"
 
 namespace losmimo::test_support {
@@ -23,9 +26,15 @@ struct PausedProcess {
 };
 
 // Runs argv with LOSMIMO_TEST_PAUSE=point ("name" or "name#n"); returns once the process waits
-// at the point, or has ended without reaching it.
+// at the point, or has ended without reaching it. A build without pause points
+// (LOSMIMO_TEST_HOOKS OFF) fails the calling test instead of starting the binary.
 inline PausedProcess spawn_until_paused(const std::vector<std::string>& argv, const std::string& log_path,
                                         const std::string& point) {
+  if (!common::test_hooks_compiled_in()) {
+    ADD_FAILURE() << "pause point " << point
+                  << " needs the test hooks: configure with -DLOSMIMO_TEST_HOOKS=ON (the default with the tests)";
+    return {};
+  }
   const std::string mark = log_path + ".paused";
   std::filesystem::remove(mark);
   ::setenv("LOSMIMO_TEST_PAUSE", point.c_str(), 1);

@@ -13,11 +13,11 @@
 #include <optional>
 #include <vector>
 
-#include "losmimo/localization/filter.h"
-#include "losmimo/localization/initial_pose.h"
-#include "losmimo/localization/pose_filter.h"
-#include "losmimo/localization/range_simulator.h"
-#include "losmimo/localization/sensor_simulator.h"
+#include "losmimo/localization/position/filter.h"
+#include "losmimo/localization/pose/initial_pose.h"
+#include "losmimo/localization/pose/filter.h"
+#include "losmimo/localization/pose/simulator.h"
+#include "losmimo/localization/position/simulator.h"
 
 namespace losmimo::localization {
 namespace {

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "losmimo/fusion/closed_loop.h"
-#include "losmimo/localization/robustness.h"
+#include "losmimo/localization/position/robustness.h"
 #include "losmimo/common/input_error.h"
 #include "fusion/closed_loop_fixtures.h"
 

@@ -7,7 +7,7 @@
 #include <random>
 
 #include "losmimo/fusion/estimation_step.h"
-#include "losmimo/localization/beacon_model.h"
+#include "losmimo/localization/position/beacon_model.h"
 #include "losmimo/placement/channel.h"
 
 namespace losmimo::fusion {

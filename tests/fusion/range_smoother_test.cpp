@@ -13,9 +13,9 @@
 #include "losmimo/common/field_error.h"
 #include "losmimo/fusion/pose_cost_functors.h"
 #include "losmimo/fusion/range_smoother.h"
-#include "losmimo/localization/beacon_model.h"
-#include "losmimo/localization/initial_pose.h"
-#include "losmimo/localization/range_simulator.h"
+#include "losmimo/localization/position/beacon_model.h"
+#include "losmimo/localization/pose/initial_pose.h"
+#include "losmimo/localization/pose/simulator.h"
 
 namespace losmimo::fusion {
 namespace {

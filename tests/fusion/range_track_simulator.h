@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "losmimo/fusion/range_smoother.h"
-#include "losmimo/localization/initial_pose.h"
-#include "losmimo/localization/range_simulator.h"
+#include "losmimo/localization/pose/initial_pose.h"
+#include "losmimo/localization/pose/simulator.h"
 
 namespace losmimo::test_support {
 

@@ -8,9 +8,9 @@
 #include <random>
 
 #include "losmimo/fusion/refinement.h"
-#include "losmimo/localization/beacon_model.h"
-#include "losmimo/localization/filter.h"
-#include "losmimo/localization/sensor_simulator.h"
+#include "losmimo/localization/position/beacon_model.h"
+#include "losmimo/localization/position/filter.h"
+#include "losmimo/localization/position/simulator.h"
 
 namespace losmimo::fusion {
 namespace {

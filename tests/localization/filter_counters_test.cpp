@@ -1,10 +1,10 @@
-// FilterCounters::operator+= (filter.h) adds every count, each into its own field.
+// FilterCounters::operator+= (filter_counters.h) adds every count, each into its own field.
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <vector>
 
-#include "losmimo/localization/filter.h"
+#include "losmimo/localization/filter_counters.h"
 
 namespace losmimo::localization {
 namespace {

@@ -8,7 +8,7 @@
 
 #include "losmimo/apps/record_app.h"
 #include "losmimo/common/ini_config.h"
-#include "losmimo/localization/filter.h"
+#include "losmimo/localization/position/filter.h"
 #include "losmimo/rawlog/mission.h"
 #include "fusion/closed_loop_fixtures.h"
 

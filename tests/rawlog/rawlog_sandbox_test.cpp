@@ -17,6 +17,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include "losmimo/apps/replay_app.h"
+#include "losmimo/common/test_hook.h"
 #include "losmimo/rawlog/log.h"
 #include "losmimo/rawlog_io/reader.h"
 #include "rawlog/rawlog_test_util.h"
@@ -132,6 +133,9 @@ TEST(RawlogSandbox, AllocationAboveTheMemoryLimit_StopsWithACleanError) {
 }
 
 TEST(RawlogSandbox, ParserThatSpinsOrHangs_IsStoppedByTheCpuLimitOrTheWatchdog) {
+  // The sandbox child spins or hangs at the pause point "sandbox.parsing" (common/test_hook.h).
+  ASSERT_TRUE(common::test_hooks_compiled_in())
+      << "needs the test hooks: configure with -DLOSMIMO_TEST_HOOKS=ON (the default with the tests)";
   const std::string bytes = odometry_log();
   struct Case {
     const char* pause;

@@ -8,7 +8,7 @@
 #include "losmimo/common/input_error.h"
 #include "losmimo/common/staged_output.h"
 #include "losmimo/common/test_hook.h"
-#include "losmimo/localization/filter.h"
+#include "losmimo/localization/position/filter.h"
 #include "losmimo/rawlog/replay.h"
 #include "kernel_isa.h"
 #include "messages.h"

@@ -16,10 +16,10 @@
 #include "losmimo/common/seed.h"
 #include "losmimo/fusion/centralized.h"
 #include "losmimo/coevaluation/report.h"
-#include "losmimo/localization/beacon_model.h"
+#include "losmimo/localization/position/beacon_model.h"
 #include "losmimo/fusion/estimation_step.h"
-#include "losmimo/localization/estimation_errors.h"
-#include "losmimo/localization/initial_belief.h"
+#include "losmimo/localization/position/estimation_errors.h"
+#include "losmimo/localization/position/initial_belief.h"
 #include "losmimo/placement/metrics.h"
 
 namespace losmimo::coevaluation {

@@ -9,6 +9,11 @@
 
 namespace losmimo::common {
 
+bool test_hooks_compiled_in() { return LOSMIMO_TEST_HOOKS != 0; }
+
+#if LOSMIMO_TEST_HOOKS
+inline namespace test_hooks_on {
+
 void test_pause_point(const char* point) {
   const char* spec = std::getenv("LOSMIMO_TEST_PAUSE");
   if (spec == nullptr) return;
@@ -28,5 +33,8 @@ void test_pause_point(const char* point) {
   while (spin) burn = burn + 1;
   while (true) ::pause();
 }
+
+}  // namespace test_hooks_on
+#endif
 
 }  // namespace losmimo::common

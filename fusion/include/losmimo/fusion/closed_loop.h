@@ -65,9 +65,9 @@
 
 #include "losmimo/fusion/estimation_step.h"
 #include "losmimo/fusion/refinement.h"
-#include "losmimo/localization/estimation_errors.h"
-#include "losmimo/localization/filter.h"
-#include "losmimo/localization/sensor_simulator.h"
+#include "losmimo/localization/position/estimation_errors.h"
+#include "losmimo/localization/position/filter.h"
+#include "losmimo/localization/position/simulator.h"
 #include "losmimo/placement/bf.h"
 #include "losmimo/placement/gd.h"
 #include "losmimo/placement/run.h"

@@ -34,9 +34,9 @@
 
 #include "losmimo/fusion/csi.h"
 #include "losmimo/fusion/refinement.h"
-#include "losmimo/localization/filter.h"
-#include "losmimo/localization/initial_belief.h"
-#include "losmimo/localization/measurements.h"
+#include "losmimo/localization/position/filter.h"
+#include "losmimo/localization/position/initial_belief.h"
+#include "losmimo/localization/position/measurements.h"
 #include "losmimo/placement/scenario.h"
 
 namespace losmimo::fusion {

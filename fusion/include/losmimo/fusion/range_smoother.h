@@ -42,7 +42,7 @@
 #include <Eigen/Core>
 
 #include "losmimo/common/range.h"
-#include "losmimo/localization/pose_filter.h"
+#include "losmimo/localization/pose/filter.h"
 
 namespace losmimo::fusion {
 

@@ -36,9 +36,9 @@
 #include <vector>
 
 #include "losmimo/fusion/csi.h"
-#include "losmimo/localization/filter.h"
+#include "losmimo/localization/position/filter.h"
 #include "losmimo/common/range.h"
-#include "losmimo/localization/measurements.h"
+#include "losmimo/localization/position/measurements.h"
 #include "losmimo/placement/channel.h"
 #include "losmimo/placement/scenario.h"
 

@@ -13,9 +13,9 @@
 #include <ostream>
 
 #include "losmimo/fusion/estimation_step.h"
-#include "losmimo/localization/estimation_errors.h"
-#include "losmimo/localization/beacon_model.h"
-#include "losmimo/localization/initial_belief.h"
+#include "losmimo/localization/position/estimation_errors.h"
+#include "losmimo/localization/position/beacon_model.h"
+#include "losmimo/localization/position/initial_belief.h"
 #include "losmimo/placement/channel.h"
 #include "losmimo/common/input_error.h"
 #include "losmimo/placement/metrics.h"

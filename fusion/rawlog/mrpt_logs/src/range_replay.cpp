@@ -13,7 +13,7 @@
 
 #include "losmimo/common/format.h"
 #include "losmimo/common/input_error.h"
-#include "losmimo/localization/beacon_model.h"
+#include "losmimo/localization/position/beacon_model.h"
 
 namespace losmimo::mrpt_logs {
 

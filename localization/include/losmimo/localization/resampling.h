@@ -22,7 +22,7 @@
 
 #include <mrpt/random/RandomGenerators.h>
 
-#include "losmimo/localization/filter.h"
+#include "losmimo/localization/filter_config.h"
 
 namespace losmimo::localization {
 

@@ -29,7 +29,7 @@
 #include "losmimo/rawlog/format.h"
 #include "losmimo/rawlog/mission.h"
 #include "losmimo/rawlog_io/reader.h"
-#include "losmimo/localization/measurements.h"
+#include "losmimo/localization/position/measurements.h"
 
 namespace losmimo::rawlog {
 

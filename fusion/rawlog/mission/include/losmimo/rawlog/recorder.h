@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "losmimo/fusion/closed_loop.h"
-#include "losmimo/localization/range_model.h"
+#include "losmimo/localization/pose/range_model.h"
 #include "losmimo/rawlog/mission.h"
 
 namespace losmimo::rawlog {

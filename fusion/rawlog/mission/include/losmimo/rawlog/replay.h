@@ -36,7 +36,7 @@
 
 #include "losmimo/common/input_error.h"
 #include "losmimo/rawlog/log.h"
-#include "losmimo/localization/filter.h"
+#include "losmimo/localization/position/filter.h"
 
 namespace losmimo::rawlog {
 

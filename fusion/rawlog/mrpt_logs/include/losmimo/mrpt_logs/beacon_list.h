@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "losmimo/localization/range_model.h"
+#include "losmimo/localization/pose/range_model.h"
 
 namespace losmimo::mrpt_logs {
 

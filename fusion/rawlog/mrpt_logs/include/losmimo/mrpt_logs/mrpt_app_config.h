@@ -22,8 +22,8 @@
 
 #include <Eigen/Core>
 
-#include "losmimo/localization/initial_pose.h"
-#include "losmimo/localization/range_model.h"
+#include "losmimo/localization/pose/initial_pose.h"
+#include "losmimo/localization/pose/range_model.h"
 
 namespace losmimo::mrpt_logs {
 

@@ -28,8 +28,8 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/localization/odometry_model.h"
-#include "losmimo/localization/range_model.h"
+#include "losmimo/localization/pose/odometry_model.h"
+#include "losmimo/localization/pose/range_model.h"
 #include "losmimo/rawlog_io/reader.h"
 
 namespace losmimo::mrpt_logs {

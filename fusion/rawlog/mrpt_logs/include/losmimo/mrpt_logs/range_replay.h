@@ -40,8 +40,8 @@
 #include <vector>
 
 #include "losmimo/fusion/range_smoother.h"
-#include "losmimo/localization/initial_pose.h"
-#include "losmimo/localization/pose_filter.h"
+#include "losmimo/localization/pose/initial_pose.h"
+#include "losmimo/localization/pose/filter.h"
 #include "losmimo/mrpt_logs/range_log.h"
 
 namespace losmimo::mrpt_logs {
