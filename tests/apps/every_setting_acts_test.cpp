@@ -136,6 +136,8 @@ const std::vector<Regime> kRegimes = {
     {"a long run that does not converge", {{"placement.target_icn", "1"}, {"placement.max_iterations", "200"}}},
     {"GD steps that overshoot", {{"gd.step", "5"}}},
     {"GD steps that overshoot more", {{"gd.step", "50"}, {"placement.target_icn", "1"}}},
+    {"capacity steps that hit the move cap and overshoot", {{"cap.step", "1000"}, {"placement.target_icn", "1"}}},
+    {"capacity steps far beyond the move cap", {{"cap.step", "1e6"}, {"cap.max_move_m", "5"}, {"placement.target_icn", "1"}}},
     {"BF at its smallest step", {{"placement.target_icn", "1"}, {"bf.step", "0.015"}}},
     {"a stall test at every iteration",
      {{"placement.target_icn", "1"}, {"gd.stall_window", "1"}, {"bf.stall_window", "1"}}},
@@ -206,6 +208,7 @@ struct Value {
 const std::vector<Value> kValues = {
     {experiment::kSweepSigmaLoc, "experiment.sweeps", "sigma_loc_m, sigma_act_m"},
     {"sigma_loc_m_gd_only", "experiment.sweeps", "sigma_loc_m, sigma_act_m"},
+    {"sigma_loc_m_gd_and_cap", "experiment.sweeps", "sigma_loc_m, sigma_act_m"},
     {experiment::kSweepSigmaAct, "experiment.sweeps", "sigma_act_m, sigma_loc_m"},
     {experiment::kSweepRicianK, "experiment.sweeps", "rician_k_db, sigma_act_m"},
     {experiment::kSweepCsiSnr, "experiment.sweeps", "csi_snr_db, sigma_act_m"},
@@ -420,6 +423,11 @@ const std::vector<Context>& contexts() {
                          {{"experiment.sigma_loc_values_m", "0.05"}, {"errors.sigma_act_m", "0.05"},
                           {"experiment.algorithms", "gd"}},
                          "sigma_loc_m_gd_only"),
+      // GD and the capacity planner: the [cap] keys act, [bf] and [ura]'s are refused.
+      experiment_context(experiment::kSweepSigmaLoc,
+                         {{"experiment.sigma_loc_values_m", "0.05"}, {"errors.sigma_act_m", "0.05"},
+                          {"experiment.algorithms", "gd, cap"}},
+                         "sigma_loc_m_gd_and_cap"),
       experiment_context(experiment::kSweepSigmaAct,
                          {{"experiment.sigma_act_values_m", "0.1"}, {"errors.sigma_loc_m", "0.05"}, {"bf.stall_window", "3"}}),
       experiment_context(experiment::kSweepRicianK, {{"experiment.rician_k_db_values", "30"}, {"bf.stall_window", "3"},

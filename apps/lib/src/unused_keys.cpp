@@ -48,7 +48,7 @@ const std::vector<UnusedKeys>& unused_keys() {
         "scenario.cube_center_z_m"},
        {kEval},
        "the UAVs are the positions file's"},
-      {{"errors.*", "placement.*", "gd.*", "bf.*", "ura.*"}, {kEval}, "it evaluates given positions: no placement runs"},
+      {{"errors.*", "placement.*", "gd.*", "bf.*", "ura.*", "cap.*"}, {kEval}, "it evaluates given positions: no placement runs"},
       {{"channel.coherence_iterations", "channel.fading_eval_draws"},
        {kEval, kRecord, kBeaconNoise, kBeaconOutage},
        "it models the LoS channel with perfect CSI (no fading to draw)"},
@@ -96,6 +96,7 @@ const std::vector<UnusedKeys>& unused_keys() {
       {{"gd.*"}, {kNoGd}, "the built-in and channel sweeps run GD only when [experiment] algorithms lists gd"},
       {{"bf.*"}, {kNoBf}, "the built-in and channel sweeps run BF only when [experiment] algorithms lists bf"},
       {{"placement.milestone_distance_includes_probes"}, {kNoBf}, "only BF flies probes"},
+      {{"cap.*"}, {kNoCap}, "the built-in and channel sweeps run the capacity planner only when [experiment] algorithms lists cap"},
       {{"ura.*"},
        {kNoUra},
        "the built-in and channel sweeps run a URA only when [experiment] algorithms lists ura, ura_lattice or "
@@ -118,6 +119,8 @@ const std::vector<UnusedKeys>& unused_keys() {
       {{"ura.*", "coevaluation.ura_variant"},
        {"no ura_ekf in [coevaluation] algorithms"},
        "the URA's settings: only ura_ekf runs one"},
+      {{"cap.*"}, {"no cap_ekf in [coevaluation] algorithms"}, "the capacity planner's settings: only cap_ekf runs it"},
+      {{"cap.*"}, {kRecord, kBeaconOutage}, "no capacity planner runs (the closed loop plans with GD and BF)"},
       // The closed loop (losmimo-record, and every beacon_outage row) plans with GD, and BF for a
       // UAV whose belief is degraded (fusion/closed_loop.h).
       {{"ura.*"}, {kRecord, kBeaconOutage}, "no URA runs (the closed loop plans with GD and BF)"},
@@ -169,6 +172,7 @@ std::vector<KeyUser> experiment_users(const ExperimentUse& use) {
       if (!runs({"gd"})) u.conditions.push_back(kNoGd);
       if (!runs({"bf"})) u.conditions.push_back(kNoBf);
       if (!runs({"ura", "ura_lattice", "ura_lattice_exact"})) u.conditions.push_back(kNoUra);
+      if (!runs({"cap"})) u.conditions.push_back(kNoCap);
     }
     if (!use.fading && sweep != kRicianK) u.conditions.push_back(kLosChannel);
     if (!use.readings) u.conditions.push_back(kNoReadings);

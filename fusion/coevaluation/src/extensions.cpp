@@ -9,11 +9,12 @@ namespace losmimo::coevaluation {
 namespace {
 
 // "no <algorithm> in [coevaluation] <key>" for each of the algorithms that some keys serve alone
-// (gd_pf: num_particles; gd_ekf_ceres: the refinement's; ura_ekf: [ura] and ura_variant) that the
+// (gd_pf: num_particles; gd_ekf_ceres: the refinement's; ura_ekf: [ura] and ura_variant; cap_ekf: [cap]) that the
 // run does not list.
 std::vector<std::string> absent(const std::vector<CoevalAlgorithm>& listed, const std::string& key) {
   std::vector<std::string> conditions;
-  for (const CoevalAlgorithm a : {CoevalAlgorithm::kGdPf, CoevalAlgorithm::kGdEkfCeres, CoevalAlgorithm::kUraEkf}) {
+  for (const CoevalAlgorithm a :
+       {CoevalAlgorithm::kGdPf, CoevalAlgorithm::kGdEkfCeres, CoevalAlgorithm::kUraEkf, CoevalAlgorithm::kCapEkf}) {
     if (std::find(listed.begin(), listed.end(), a) == listed.end()) {
       conditions.push_back("no " + to_string(a) + " in [coevaluation] " + key);
     }

@@ -9,7 +9,6 @@
 namespace losmimo::rawlog {
 
 namespace {
-std::string exact(double v) { return common::format_g(v, common::kExactDigits); }
 }  // namespace
 
 const common::KeyTable<MissionConfig>& mission_keys() {
@@ -25,7 +24,7 @@ const common::KeyTable<MissionConfig>& mission_keys() {
                   common::Range::above_up_to(0.0, 86400.0), "time between epochs in the rawlog's timestamps [s]",
                   "0.5"),
       },
-      &exact);
+      &common::format_exact);
   return table;
 }
 

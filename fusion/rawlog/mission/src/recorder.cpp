@@ -31,7 +31,6 @@ namespace losmimo::rawlog {
 
 namespace {
 
-std::string exact(double v) { return common::format_g(v, common::kExactDigits); }
 
 // 2026-01-01T00:00:00Z: a fixed origin keeps the logs (and their digests) reproducible.
 constexpr double kTimeOrigin_s = 1767225600.0;
@@ -169,7 +168,7 @@ class Recorder : public fusion::ClosedLoopObserver {
     text << kRawlogMagic << " " << kRawlogFormatVersion << "\n" << mission_to_ini(config_)
          << "\n[rawlog]\nformat_version = " << kRawlogFormatVersion << "\nnum_uavs = " << nr
          << "\nnum_bs_antennas = " << config_.placement.scenario.num_bs_antennas()
-         << "\nepoch_origin_s = " << exact(kTimeOrigin_s) << "\nfilter_seeds = ";
+         << "\nepoch_origin_s = " << common::format_exact(kTimeOrigin_s) << "\nfilter_seeds = ";
     for (int m = 0; m < nr; ++m) text << (m ? ", " : "") << filter_seeds[m];
     text << "\ncsi_source = "
          << (config_.closed_loop.refine && config_.closed_loop.refinement.use_csi ? "loop" : "recorder")
@@ -254,7 +253,7 @@ class Recorder : public fusion::ClosedLoopObserver {
          << "\nfilter_degraded = " << flags(filter_degraded_) << "\ndegraded = " << flags(degraded_)
          << "\nepochs_since_beacon = ";
     for (std::size_t m = 0; m < since_beacon_.size(); ++m) body << (m ? "," : "") << since_beacon_[m];
-    body << "\nmodes = " << flags(modes_) << "\nicn_after_moves = " << exact(icn_after_moves) << "\n";
+    body << "\nmodes = " << flags(modes_) << "\nicn_after_moves = " << common::format_exact(icn_after_moves) << "\n";
     writer_.mark(kLabelEpochEnd, body.str(), time_s(epoch) + 0.9 * config_.epoch_period_s);
     ++marks_;
     epoch_open_ = false;
@@ -275,7 +274,7 @@ class Recorder : public fusion::ClosedLoopObserver {
     body << "epochs = " << epochs_ << "\nmarks = " << marks_
          << "\nfinal_truth_epoch = " << (final_epoch > 0 ? final_epoch : -1)
          << "\niterations = " << r.run.iterations << "\nstatus = " << placement::to_string(r.run.status)
-         << "\nfinal_icn = " << exact(r.run.trace.empty() ? 0.0 : r.run.trace.back().icn) << "\n";
+         << "\nfinal_icn = " << common::format_exact(r.run.trace.empty() ? 0.0 : r.run.trace.back().icn) << "\n";
     if (r.run.faulted()) {  // only then: the logs of runs without a fault stay byte for byte
       std::string reason = r.run.fault;
       std::replace(reason.begin(), reason.end(), '\n', ' ');  // one "key = value" line
@@ -334,8 +333,8 @@ std::string mission_beacons_ini_text(const MissionConfig& config) {
   const placement::Scenario& sc = config.placement.scenario;
   const double h = 0.5 * sc.cube_side_m;
   s << "\n[LocalizationExperiment]\ninit_PDF_mode = 1\n"
-    << "init_PDF_min_x = " << exact(sc.cube_center_m.x() - h) << "\ninit_PDF_max_x = " << exact(sc.cube_center_m.x() + h)
-    << "\ninit_PDF_min_y = " << exact(sc.cube_center_m.y() - h) << "\ninit_PDF_max_y = " << exact(sc.cube_center_m.y() + h)
+    << "init_PDF_min_x = " << common::format_exact(sc.cube_center_m.x() - h) << "\ninit_PDF_max_x = " << common::format_exact(sc.cube_center_m.x() + h)
+    << "\ninit_PDF_min_y = " << common::format_exact(sc.cube_center_m.y() - h) << "\ninit_PDF_max_y = " << common::format_exact(sc.cube_center_m.y() + h)
     << "\ninit_PDF_min_yaw_deg = 0\ninit_PDF_max_yaw_deg = 0\n";
   return s.str();
 }

@@ -36,7 +36,6 @@ bool bitwise_equal(const localization::Belief& a, const localization::Belief& b)
   return true;
 }
 
-std::string num(double v) { return common::format_g(v, common::kCsvDigits); }
 
 // The link metrics of positions q (3 x Nr) into row m.
 void link_metrics(const placement::ChannelModel& model, double noise_variance, const Eigen::Matrix3Xd& q,
@@ -256,13 +255,13 @@ std::vector<std::pair<std::string, std::string>> replay_summary_rows(const Missi
       {"complete", log.complete || (!log.ours && log.read_status.stop == rawlog_io::RawlogStop::kEnd) ? "true" : "false"},
       {"uavs", std::to_string(log.num_uavs)},
       {"epochs", std::to_string(log.epochs.size())},
-      {"rmse_m", num(r.rmse_m)},
-      {"lateral_rmse_m", num(r.lateral_rmse_m)},
-      {"average_nees", num(r.average_nees)},
-      {"filter_rmse_m", num(r.filter_rmse_m)},
-      {"mean_icn", num(r.mean_icn)},
-      {"final_icn", num(r.final_icn)},
-      {"final_sinr_zf_db", num(r.final_sinr_zf_db)},
+      {"rmse_m", common::format_csv(r.rmse_m)},
+      {"lateral_rmse_m", common::format_csv(r.lateral_rmse_m)},
+      {"average_nees", common::format_csv(r.average_nees)},
+      {"filter_rmse_m", common::format_csv(r.filter_rmse_m)},
+      {"mean_icn", common::format_csv(r.mean_icn)},
+      {"final_icn", common::format_csv(r.final_icn)},
+      {"final_sinr_zf_db", common::format_csv(r.final_sinr_zf_db)},
       {"fallback_uav_epochs", std::to_string(r.fallback_uav_epochs)},
       {"fallback_epochs", std::to_string(r.fallback_epochs)},
       {"beacons", std::to_string(r.num_beacons)},
@@ -276,7 +275,7 @@ std::vector<std::pair<std::string, std::string>> replay_summary_rows(const Missi
   if (!stable) {
     s.push_back({"refined_beliefs_bitwise_equal",
                  std::to_string(r.refined_beliefs_bitwise_equal) + "/" + std::to_string(r.refined_beliefs_compared)});
-    s.push_back({"refined_cov_max_rel_diff", num(r.refined_cov_max_rel_diff)});
+    s.push_back({"refined_cov_max_rel_diff", common::format_csv(r.refined_cov_max_rel_diff)});
   }
   // The recorded run's end (END_OF_LOG); summary.csv has it for a run ended by a fault only, so
   // that the other golden summaries stay as they were.
@@ -322,12 +321,12 @@ void write_replay_csv(const MissionLog& log, const ReplayResult& r, const std::s
     for (const ReplayUavEpoch& e : r.estimates) {
       const Eigen::Vector3d& q = e.belief.mean_m;
       const Eigen::Vector3d t = e.has_truth ? e.truth_m : Eigen::Vector3d::Constant(kNan);
-      f << e.epoch << "," << e.uav << "," << num(t.x()) << "," << num(t.y()) << "," << num(t.z()) << ","
-        << num(q.x()) << "," << num(q.y()) << "," << num(q.z()) << ","
-        << num(std::sqrt(e.belief.cov_m2(0, 0))) << "," << num(std::sqrt(e.belief.cov_m2(1, 1))) << ","
-        << num(std::sqrt(e.belief.cov_m2(2, 2))) << ","
-        << (e.has_truth ? num(e.error_m) : "nan") << "," << (e.has_truth ? num(e.lateral_error_m) : "nan")
-        << "," << (e.has_truth ? num(e.nees) : "nan") << "," << (e.belief.degraded ? 1 : 0) << ","
+      f << e.epoch << "," << e.uav << "," << common::format_csv(t.x()) << "," << common::format_csv(t.y()) << "," << common::format_csv(t.z()) << ","
+        << common::format_csv(q.x()) << "," << common::format_csv(q.y()) << "," << common::format_csv(q.z()) << ","
+        << common::format_csv(std::sqrt(e.belief.cov_m2(0, 0))) << "," << common::format_csv(std::sqrt(e.belief.cov_m2(1, 1))) << ","
+        << common::format_csv(std::sqrt(e.belief.cov_m2(2, 2))) << ","
+        << (e.has_truth ? common::format_csv(e.error_m) : "nan") << "," << (e.has_truth ? common::format_csv(e.lateral_error_m) : "nan")
+        << "," << (e.has_truth ? common::format_csv(e.nees) : "nan") << "," << (e.belief.degraded ? 1 : 0) << ","
         << (e.has_beacon ? 1 : 0) << "\n";
     }
     if (!f) throw std::runtime_error((d / "estimates.csv").string() + ": write failed");
@@ -337,10 +336,10 @@ void write_replay_csv(const MissionLog& log, const ReplayResult& r, const std::s
     f << "epoch,final,icn,icn_estimated,sinr_nv_db,sinr_zf_db,sinr_mf_db,sum_rate_zf_bps_hz,rmse_m,"
          "lateral_rmse_m,mean_nees,fallback_uavs,beacons\n";
     for (const ReplayEpochMetrics& e : r.epochs) {
-      f << e.epoch << "," << (e.final_positions ? 1 : 0) << "," << num(e.icn) << "," << num(e.icn_estimated)
-        << "," << num(e.sinr_nv_db) << "," << num(e.sinr_zf_db) << "," << num(e.sinr_mf_db) << ","
-        << num(e.sum_rate_zf_bps_hz) << "," << num(e.rmse_m) << "," << num(e.lateral_rmse_m) << ","
-        << num(e.mean_nees) << "," << e.fallback_uavs << "," << e.beacons << "\n";
+      f << e.epoch << "," << (e.final_positions ? 1 : 0) << "," << common::format_csv(e.icn) << "," << common::format_csv(e.icn_estimated)
+        << "," << common::format_csv(e.sinr_nv_db) << "," << common::format_csv(e.sinr_zf_db) << "," << common::format_csv(e.sinr_mf_db) << ","
+        << common::format_csv(e.sum_rate_zf_bps_hz) << "," << common::format_csv(e.rmse_m) << "," << common::format_csv(e.lateral_rmse_m) << ","
+        << common::format_csv(e.mean_nees) << "," << e.fallback_uavs << "," << e.beacons << "\n";
     }
     if (!f) throw std::runtime_error((d / "epochs.csv").string() + ": write failed");
   }

@@ -1,4 +1,5 @@
 #include "losmimo/mrpt_logs/mrpt_app_config.h"
+#include "losmimo/common/text.h"
 
 #include <algorithm>
 #include <cctype>
@@ -31,19 +32,13 @@ std::string lower(std::string s) {
   return s;
 }
 
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
-}
-
 class Reader {
  public:
   explicit Reader(const std::string& path) : path_(path), cfg_(path) {}
 
   std::optional<std::string> text(const std::string& section, const std::string& key) {
     used_.insert(lower(section) + "\n" + lower(key));
-    const std::string v = trim(cfg_.read_string(section, key, "", false));
+    const std::string v = common::trim(cfg_.read_string(section, key, "", false));
     if (v.empty()) return std::nullopt;
     return v;
   }

@@ -24,7 +24,6 @@ using namespace localization;
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 constexpr double kPi = 3.14159265358979323846;
 
-std::string num(double v) { return common::format_g(v, common::kCsvDigits); }
 
 PoseBox beacon_box(const BeaconMap& beacons) {
   PoseBox box;
@@ -300,8 +299,8 @@ void write_range_readings_csv(const RangeLog& log, const std::string& path) {
   for (const RangeFrame& fr : log.frames)
     for (const BeaconRangeScan& s : fr.scans)
       for (const BeaconRange& r : s.ranges) {
-        f << fr.step << "," << r.beacon_id << "," << num(r.range_m) << "," << num(r.sensor_on_robot_m.x()) << ","
-          << num(r.sensor_on_robot_m.y()) << "," << num(r.sensor_on_robot_m.z()) << "," << num(s.std_error_m) << "\n";
+        f << fr.step << "," << r.beacon_id << "," << common::format_csv(r.range_m) << "," << common::format_csv(r.sensor_on_robot_m.x()) << ","
+          << common::format_csv(r.sensor_on_robot_m.y()) << "," << common::format_csv(r.sensor_on_robot_m.z()) << "," << common::format_csv(s.std_error_m) << "\n";
       }
   if (!f) throw std::runtime_error(path + ": write failed");
 }
@@ -320,27 +319,27 @@ void write_range_track_csv(const RangeReplayResult& result, const std::string& p
     const auto& m = r.belief.mean;
     const auto& P = r.belief.cov;
     const int n = r.innovations.fused;
-    f << r.step << "," << common::format_g(r.timestamp_s, common::kExactDigits) << "," << num(m(0)) << ","
-      << num(m(1)) << "," << num(m(2)) << "," << num(m(3)) << "," << num(P(0, 0)) << "," << num(P(1, 1)) << ","
-      << num(P(2, 2)) << "," << num(P(3, 3)) << "," << r.ranges << "," << n << ","
-      << (n ? num(std::sqrt(r.innovations.sum_sq_m2 / n)) : "nan") << ","
-      << (n ? num(r.innovations.nis_sum / n) : "nan") << ","
-      << (r.residuals ? num(std::sqrt(r.residual_sum_sq_m2 / r.residuals)) : "nan") << ","
-      << num(r.dead_reckoning(0)) << "," << num(r.dead_reckoning(1)) << "," << num(r.dead_reckoning(2)) << ","
-      << num(r.dead_reckoning(3));
+    f << r.step << "," << common::format_g(r.timestamp_s, common::kExactDigits) << "," << common::format_csv(m(0)) << ","
+      << common::format_csv(m(1)) << "," << common::format_csv(m(2)) << "," << common::format_csv(m(3)) << "," << common::format_csv(P(0, 0)) << "," << common::format_csv(P(1, 1)) << ","
+      << common::format_csv(P(2, 2)) << "," << common::format_csv(P(3, 3)) << "," << r.ranges << "," << n << ","
+      << (n ? common::format_csv(std::sqrt(r.innovations.sum_sq_m2 / n)) : "nan") << ","
+      << (n ? common::format_csv(r.innovations.nis_sum / n) : "nan") << ","
+      << (r.residuals ? common::format_csv(std::sqrt(r.residual_sum_sq_m2 / r.residuals)) : "nan") << ","
+      << common::format_csv(r.dead_reckoning(0)) << "," << common::format_csv(r.dead_reckoning(1)) << "," << common::format_csv(r.dead_reckoning(2)) << ","
+      << common::format_csv(r.dead_reckoning(3));
     if (r.has_truth) {
-      f << "," << num(r.truth(0)) << "," << num(r.truth(1)) << "," << num(r.truth(2)) << "," << num(r.error_m) << ","
-        << num(r.nees) << "," << num(r.dr_error_m);
+      f << "," << common::format_csv(r.truth(0)) << "," << common::format_csv(r.truth(1)) << "," << common::format_csv(r.truth(2)) << "," << common::format_csv(r.error_m) << ","
+        << common::format_csv(r.nees) << "," << common::format_csv(r.dr_error_m);
     } else {
       f << ",nan,nan,nan,nan,nan,nan";
     }
     if (r.refined) {
       const auto& rm = r.refined->mean;
       const auto& rP = r.refined->cov;
-      f << "," << num(rm(0)) << "," << num(rm(1)) << "," << num(rm(2)) << "," << num(rm(3)) << "," << num(rP(0, 0))
-        << "," << num(rP(1, 1)) << "," << num(rP(2, 2)) << "," << num(rP(3, 3)) << ","
-        << (r.residuals ? num(std::sqrt(r.refined_residual_sum_sq_m2 / r.residuals)) : "nan") << ","
-        << (r.has_truth ? num(r.refined_error_m) : "nan") << "," << (r.has_truth ? num(r.refined_nees) : "nan");
+      f << "," << common::format_csv(rm(0)) << "," << common::format_csv(rm(1)) << "," << common::format_csv(rm(2)) << "," << common::format_csv(rm(3)) << "," << common::format_csv(rP(0, 0))
+        << "," << common::format_csv(rP(1, 1)) << "," << common::format_csv(rP(2, 2)) << "," << common::format_csv(rP(3, 3)) << ","
+        << (r.residuals ? common::format_csv(std::sqrt(r.refined_residual_sum_sq_m2 / r.residuals)) : "nan") << ","
+        << (r.has_truth ? common::format_csv(r.refined_error_m) : "nan") << "," << (r.has_truth ? common::format_csv(r.refined_nees) : "nan");
     }
     f << "\n";
   }
@@ -367,26 +366,26 @@ std::vector<std::pair<std::string, std::string>> range_summary_rows(const RangeL
       {"skipped_geometry", i(c.rejected_range_geometry)},
       {"skipped_gate", i(c.rejected_range_gate)},
       {"resets", i(c.resets)},
-      {"innovation_rms_m", num(r.innovation_rms_m)},
-      {"mean_nis", num(r.mean_nis)},
+      {"innovation_rms_m", common::format_csv(r.innovation_rms_m)},
+      {"mean_nis", common::format_csv(r.mean_nis)},
       {"residual_readings", i(r.residuals)},
-      {"residual_rms_m", num(r.residual_rms_m)},
+      {"residual_rms_m", common::format_csv(r.residual_rms_m)},
       {"settle_steps", std::to_string(r.settle_steps)},
-      {"residual_rms_settled_m", num(r.residual_rms_settled_m)},
+      {"residual_rms_settled_m", common::format_csv(r.residual_rms_settled_m)},
       {"residual_readings_settled", i(r.residuals_settled)},
       {"ground_truth_frames", i(r.truth_frames)},
-      {"rmse_xy_m", num(r.rmse_m)},
-      {"mean_nees_xy", num(r.mean_nees)},
-      {"dead_reckoning_rmse_xy_m", num(r.dr_rmse_m)},
+      {"rmse_xy_m", common::format_csv(r.rmse_m)},
+      {"mean_nees_xy", common::format_csv(r.mean_nees)},
+      {"dead_reckoning_rmse_xy_m", common::format_csv(r.dr_rmse_m)},
   };
   if (r.refined) {
     const fusion::RangeSmootherResult& sm = r.smoother;
     rows.insert(rows.end(), {
         {"refinement", r.refine_mode},
-        {"refined_residual_rms_m", num(r.refined_residual_rms_m)},
-        {"refined_residual_rms_settled_m", num(r.refined_residual_rms_settled_m)},
-        {"refined_rmse_xy_m", num(r.refined_rmse_m)},
-        {"refined_mean_nees_xy", num(r.refined_mean_nees)},
+        {"refined_residual_rms_m", common::format_csv(r.refined_residual_rms_m)},
+        {"refined_residual_rms_settled_m", common::format_csv(r.refined_residual_rms_settled_m)},
+        {"refined_rmse_xy_m", common::format_csv(r.refined_rmse_m)},
+        {"refined_mean_nees_xy", common::format_csv(r.refined_mean_nees)},
         {"refined_ranges_used", i(sm.ranges_used)},
         {"refined_ranges_down_weighted", i(sm.ranges_down_weighted)},
         {"refined_problems", std::to_string(sm.problems)},
@@ -400,16 +399,16 @@ std::vector<std::pair<std::string, std::string>> range_summary_rows(const RangeL
   if (!r.track.empty()) {
     const auto& m = r.track.back().belief.mean;
     const auto& d = r.track.back().dead_reckoning;
-    rows.push_back({"final_x_m", num(m(0))});
-    rows.push_back({"final_y_m", num(m(1))});
-    rows.push_back({"final_heading_rad", num(m(3))});
-    rows.push_back({"final_dr_x_m", num(d(0))});
-    rows.push_back({"final_dr_y_m", num(d(1))});
-    rows.push_back({"final_dr_heading_rad", num(d(3))});
+    rows.push_back({"final_x_m", common::format_csv(m(0))});
+    rows.push_back({"final_y_m", common::format_csv(m(1))});
+    rows.push_back({"final_heading_rad", common::format_csv(m(3))});
+    rows.push_back({"final_dr_x_m", common::format_csv(d(0))});
+    rows.push_back({"final_dr_y_m", common::format_csv(d(1))});
+    rows.push_back({"final_dr_heading_rad", common::format_csv(d(3))});
     if (const auto& f = r.track.back().refined) {
-      rows.push_back({"final_refined_x_m", num(f->mean(0))});
-      rows.push_back({"final_refined_y_m", num(f->mean(1))});
-      rows.push_back({"final_refined_heading_rad", num(f->mean(3))});
+      rows.push_back({"final_refined_x_m", common::format_csv(f->mean(0))});
+      rows.push_back({"final_refined_y_m", common::format_csv(f->mean(1))});
+      rows.push_back({"final_refined_heading_rad", common::format_csv(f->mean(3))});
     }
   }
   return rows;

@@ -36,6 +36,7 @@ struct KeyUser {
 // The conditions, as entries and KeyUser::conditions name them.
 inline const std::string kNoGd = "no gd in [experiment] algorithms";
 inline const std::string kNoBf = "no bf in [experiment] algorithms";
+inline const std::string kNoCap = "no cap in [experiment] algorithms";
 inline const std::string kNoUra = "no ura, ura_lattice or ura_lattice_exact in [experiment] algorithms";
 inline const std::string kLosChannel = "[channel] rician_k_db = inf";
 inline const std::string kNoReadings = "no [experiment] readings";
