@@ -43,8 +43,7 @@ std::vector<std::string> mpi_gather(const std::string& mine, int rank, int size)
     total += lengths[r];
   }
   std::string all(static_cast<std::size_t>(total), '\0');
-  MPI_Gatherv(mine.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0,
-              MPI_COMM_WORLD);
+  MPI_Gatherv(mine.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0, MPI_COMM_WORLD);
   std::vector<std::string> parts;
   for (std::size_t r = 0; r < lengths.size(); ++r) parts.push_back(all.substr(offsets[r], lengths[r]));
   return parts;
@@ -64,10 +63,11 @@ int main(int argc, char** argv) {
   app.add_option("--trials", options.trials, "random starts per sweep point (paper: 500)")->check(CLI::PositiveNumber);
   app.add_option("--threads", options.threads, "worker threads (0: all cores); results do not depend on it")
       ->check(CLI::NonNegativeNumber);
-  CLI::Option* shard_option = app.add_option("--shard", shard,
-                 "i/N: run only jobs j with j % N == i (0 <= i < N) into --out, for `merge`");
-  CLI::Option* resume_option = app.add_option("--resume", resume_dir,
-                 "continue the interrupted run of this output folder (same config; finished points are kept)");
+  CLI::Option* shard_option =
+      app.add_option("--shard", shard, "i/N: run only jobs j with j % N == i (0 <= i < N) into --out, for `merge`");
+  CLI::Option* resume_option =
+      app.add_option("--resume", resume_dir,
+                     "continue the interrupted run of this output folder (same config; finished points are kept)");
   app.add_flag("--replace", options.replace,
                "replace the results already in the output folder (default: refuse, exit 2)");
 

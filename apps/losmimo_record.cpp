@@ -13,7 +13,8 @@ int main(int argc, char** argv) {
   losmimo::apps::add_version_flag(app);
   app.add_option("--config", options.config_path, "mission INI (default: built-in defaults)");
   app.add_option("--set", options.overrides, "override a key: section.key=value (repeatable)");
-  app.add_option("--out", options.out_path, "output rawlog (gzip), written as <out>.partial until complete")->required();
+  app.add_option("--out", options.out_path, "output rawlog (gzip), written as <out>.partial until complete")
+      ->required();
   app.add_flag("--replace", options.replace, "replace an existing --out file (default: refuse, exit 2)");
   try {
     app.parse(argc, argv);

@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
                "stop at object classes the reader cannot bound, instead of parsing them in the sandbox");
   app.add_option("--beacons", options.beacons_path,
                  "range-only replay: beacon list file, one 'ID x y z' per line (MRPT's ground-truth beacon files)");
-  app.add_option("--initial-pose", options.initial_pose, "range-only: start pose 'x,y,yaw_deg' (default: uniform over the beacons)");
+  app.add_option("--initial-pose", options.initial_pose,
+                 "range-only: start pose 'x,y,yaw_deg' (default: uniform over the beacons)");
   app.add_option("--initial-sigma", options.initial_sigma, "range-only: start 1-sigma 'xy_m,yaw_deg' (default 0.1,2)");
   app.add_option("--range-sigma", options.range_sigma_m, "range-only: range 1-sigma [m] (default: the log's stdError)");
   app.add_option("--particles", options.particles,
@@ -35,7 +36,8 @@ int main(int argc, char** argv) {
                  "groundTruthFile)");
   app.add_option("--ground-truth", options.ground_truth,
                  "range-only: robot path as ro-localization's groundTruthFile ('k x y phi' relative to the start)");
-  app.add_option("--settle-steps", options.settle_steps, "range-only: frames before the settled residual RMS (default 10)");
+  app.add_option("--settle-steps", options.settle_steps,
+                 "range-only: frames before the settled residual RMS (default 10)");
   CLI::Option* refine_window_option = app.add_option(
       "--refine-window", options.refine_window,
       "range-only, with --refine: 0 smooths the whole log (default), W >= 2 refines each frame over its last W frames");

@@ -25,6 +25,8 @@ inline std::string version_line() {
   return std::string("losmimo ") + LOSMIMO_VERSION + " (" + kernels + ")";
 }
 
-inline void add_version_flag(CLI::App& app) { app.set_version_flag("--version", [] { return version_line(); }); }
+inline void add_version_flag(CLI::App& app) {
+  app.set_version_flag("--version", [] { return version_line(); });
+}
 
 }  // namespace losmimo::apps

@@ -54,8 +54,7 @@ class PenalizedTravel final : public ceres::FirstOrderFunction {
 // makes Ceres' line search contract the step (the iterates stay strictly feasible).
 class BarrierTravel final : public ceres::FirstOrderFunction {
  public:
-  BarrierTravel(const placement::ChannelModel& model, const Eigen::Matrix3Xd& start_m, double alpha,
-                double t)
+  BarrierTravel(const placement::ChannelModel& model, const Eigen::Matrix3Xd& start_m, double alpha, double t)
       : model_(model), start_m_(start_m), alpha_(alpha), t_(t) {}
 
   bool Evaluate(const double* parameters, double* cost, double* gradient) const override {
@@ -111,9 +110,7 @@ struct Solver {
     return q;
   }
 
-  double icn(const Eigen::Matrix3Xd& q_m) const {
-    return placement::inverse_condition_number(model.matrix(q_m));
-  }
+  double icn(const Eigen::Matrix3Xd& q_m) const { return placement::inverse_condition_number(model.matrix(q_m)); }
   bool feasible(const Eigen::Matrix3Xd& q_m) const { return icn(q_m) >= config.target_icn; }
   double travel2(const Eigen::Matrix3Xd& q_m) const { return (q_m - start_m).squaredNorm(); }
 };
@@ -130,13 +127,12 @@ void polish(Solver& solver, Candidate& candidate) {
   const CentralizedConfig& c = solver.config;
   if (!candidate.feasible) return;
   const double alpha = c.target_icn;
-  if (!std::isfinite(barrier_travel_cost(solver.model, solver.start_m, alpha, c.barrier_t_initial,
-                                         candidate.q_m, nullptr))) {
+  if (!std::isfinite(
+          barrier_travel_cost(solver.model, solver.start_m, alpha, c.barrier_t_initial, candidate.q_m, nullptr))) {
     return;  // on the boundary itself (ICN == alpha to rounding): nothing to polish from
   }
   Eigen::Matrix3Xd q = candidate.q_m;
-  for (double t = c.barrier_t_initial; t >= c.barrier_t_final * (1.0 - 1e-9);
-       t *= c.barrier_t_factor) {
+  for (double t = c.barrier_t_initial; t >= c.barrier_t_final * (1.0 - 1e-9); t *= c.barrier_t_factor) {
     const Eigen::Matrix3Xd q_next = solver.minimise_barrier(q, t);
     if (solver.feasible(q_next)) q = q_next;
   }
@@ -229,17 +225,17 @@ void ura_baselines(const placement::Scenario& scenario, const Solver& solver, Ce
 void add_ura_entries(Solver& solver, const CentralizedResult& result, std::vector<Entry>& entries) {
   const CentralizedConfig& config = solver.config;
   if (config.start_from_lattice_ura) {
-    entries.push_back({continuation(solver, result.lattice_ura_m, config.mu_max),
-                       CentralizedStart::kLatticeUra, false});
+    entries.push_back(
+        {continuation(solver, result.lattice_ura_m, config.mu_max), CentralizedStart::kLatticeUra, false});
     entries.push_back({{result.lattice_ura_icn >= config.target_icn, result.lattice_ura_m, 0.0},
-                       CentralizedStart::kLatticeUra, true});
+                       CentralizedStart::kLatticeUra,
+                       true});
   }
   if (config.start_from_rigid_ura) {
-    entries.push_back({continuation(solver, result.rigid_ura_m, config.mu_max),
-                       CentralizedStart::kRigidUra, false});
+    entries.push_back({continuation(solver, result.rigid_ura_m, config.mu_max), CentralizedStart::kRigidUra, false});
   }
-  entries.push_back({{result.rigid_ura_icn >= config.target_icn, result.rigid_ura_m, 0.0},
-                     CentralizedStart::kRigidUra, true});
+  entries.push_back(
+      {{result.rigid_ura_icn >= config.target_icn, result.rigid_ura_m, 0.0}, CentralizedStart::kRigidUra, true});
 }
 
 // The feasible entry of least squared travel (the first of equals) into result; result is
@@ -264,16 +260,14 @@ void keep_least_travel(const Solver& solver, const std::vector<Entry>& entries, 
 }  // namespace
 
 void validate(const CentralizedConfig& c) {
-  if (!(c.target_icn > 0.0) || !(c.target_icn < 1.0))
-    bad_field("target_icn", c.target_icn, "must be in (0, 1)");
+  if (!(c.target_icn > 0.0) || !(c.target_icn < 1.0)) bad_field("target_icn", c.target_icn, "must be in (0, 1)");
   if (!(c.mu_initial > 0.0) || !std::isfinite(c.mu_initial))
     bad_field("mu_initial", c.mu_initial, "must be a finite positive number");
   if (!(c.mu_growth > 1.0) || !std::isfinite(c.mu_growth))
     bad_field("mu_growth", c.mu_growth, "must be a finite number > 1");
   if (!(c.mu_max >= c.mu_initial) || !std::isfinite(c.mu_max))
     bad_field("mu_max", c.mu_max, "must be finite and >= mu_initial");
-  if (c.reduce_steps < 0 || c.reduce_steps > 100)
-    bad_field("reduce_steps", c.reduce_steps, "must be in [0, 100]");
+  if (c.reduce_steps < 0 || c.reduce_steps > 100) bad_field("reduce_steps", c.reduce_steps, "must be in [0, 100]");
   if (c.max_lbfgs_iterations < 1 || c.max_lbfgs_iterations > 100000)
     bad_field("max_lbfgs_iterations", c.max_lbfgs_iterations, "must be in [1, 100000]");
   if (!(c.barrier_t_initial > 0.0) || !std::isfinite(c.barrier_t_initial))
@@ -305,17 +299,22 @@ std::string to_string(CentralizedStatus status) {
 
 std::string to_string(CentralizedStart start) {
   switch (start) {
-    case CentralizedStart::kStartPositions: return "start_positions";
-    case CentralizedStart::kLatticeUra: return "lattice_ura";
-    case CentralizedStart::kRigidUra: return "rigid_ura";
-    case CentralizedStart::kGd: return "gd";
-    case CentralizedStart::kNone: break;
+    case CentralizedStart::kStartPositions:
+      return "start_positions";
+    case CentralizedStart::kLatticeUra:
+      return "lattice_ura";
+    case CentralizedStart::kRigidUra:
+      return "rigid_ura";
+    case CentralizedStart::kGd:
+      return "gd";
+    case CentralizedStart::kNone:
+      break;
   }
   return "none";
 }
 
-CentralizedResult solve_centralized(const placement::Scenario& scenario,
-                                    const Eigen::Matrix3Xd& start_m, const CentralizedConfig& config) {
+CentralizedResult solve_centralized(const placement::Scenario& scenario, const Eigen::Matrix3Xd& start_m,
+                                    const CentralizedConfig& config) {
   placement::validate(scenario);
   validate(config);
   if (start_m.cols() != scenario.num_uavs || !start_m.allFinite()) {
@@ -327,8 +326,7 @@ CentralizedResult solve_centralized(const placement::Scenario& scenario,
   CentralizedResult result;
 
   std::vector<Entry> entries;
-  entries.push_back({continuation(solver, start_m, config.mu_initial),
-                     CentralizedStart::kStartPositions, false});
+  entries.push_back({continuation(solver, start_m, config.mu_initial), CentralizedStart::kStartPositions, false});
   if (config.start_from_gd) entries.push_back({gd_candidate(scenario, solver), CentralizedStart::kGd, false});
   if (scenario.num_uavs == scenario.num_bs_antennas()) {
     ura_baselines(scenario, solver, result);

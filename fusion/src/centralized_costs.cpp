@@ -10,8 +10,8 @@
 
 namespace losmimo::fusion {
 
-double penalized_travel_cost(const placement::ChannelModel& model, const Eigen::Matrix3Xd& start_m,
-                             double mu, const Eigen::Matrix3Xd& q_m, Eigen::Matrix3Xd* gradient) {
+double penalized_travel_cost(const placement::ChannelModel& model, const Eigen::Matrix3Xd& start_m, double mu,
+                             const Eigen::Matrix3Xd& q_m, Eigen::Matrix3Xd* gradient) {
   const placement::SwarmChannel swarm(model, q_m);
   const double cost = (q_m - start_m).squaredNorm() + mu * swarm.objective();
   if (gradient != nullptr) {
@@ -24,9 +24,8 @@ double penalized_travel_cost(const placement::ChannelModel& model, const Eigen::
   return cost;
 }
 
-double barrier_travel_cost(const placement::ChannelModel& model, const Eigen::Matrix3Xd& start_m,
-                           double alpha, double t, const Eigen::Matrix3Xd& q_m,
-                           Eigen::Matrix3Xd* gradient) {
+double barrier_travel_cost(const placement::ChannelModel& model, const Eigen::Matrix3Xd& start_m, double alpha,
+                           double t, const Eigen::Matrix3Xd& q_m, Eigen::Matrix3Xd* gradient) {
   const Eigen::MatrixXcd H = model.matrix(q_m);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> eig(H.adjoint() * H);
   const Eigen::Index nt = H.cols();

@@ -35,9 +35,8 @@ struct ClosedLoopPlanner::Uav {
   double bf_step_scale = 1.0;                          // BF's compass factor (bf.h)
 };
 
-ClosedLoopPlanner::ClosedLoopPlanner(const placement::Scenario& scenario,
-                                     const placement::GdOptions& gd, const placement::BfOptions& bf,
-                                     const ClosedLoopConfig& config, std::uint64_t seed)
+ClosedLoopPlanner::ClosedLoopPlanner(const placement::Scenario& scenario, const placement::GdOptions& gd,
+                                     const placement::BfOptions& bf, const ClosedLoopConfig& config, std::uint64_t seed)
     : scenario_(scenario),
       gd_options_(gd),
       bf_options_(bf),
@@ -116,7 +115,7 @@ void ClosedLoopPlanner::localize(placement::Swarm& swarm, int epoch) {
   const int iteration = epoch + 1;
   for (int m = 0; m < swarm.num_uavs(); ++m) {
     if (unresponsive(m, iteration)) continue;  // nothing arrives; the belief stays as it was
-    heard_[m] = 1;  // a reading arrived, finite or not
+    heard_[m] = 1;                             // a reading arrived, finite or not
     Uav& uav = uavs_[m];
     const Eigen::Vector3d q = swarm.true_positions_m().col(m);
     EpochMeasurements in;
@@ -142,9 +141,9 @@ void ClosedLoopPlanner::record_epoch(int m, int epoch, const Eigen::Vector3d& q_
   modes_.rejected_csi[m] += est.rejected_csi;
   if (est.refinement_covariance_fallback) ++modes_.refinement_covariance_fallbacks;
   if (est.health_problem && !fault_) {
-    fault_ = placement::PlannerFault{placement::RunStatus::kNumericalFault, m,
-                                     "UAV " + std::to_string(m) + ": " + *est.health_problem + " at epoch " +
-                                         std::to_string(epoch)};
+    fault_ = placement::PlannerFault{
+        placement::RunStatus::kNumericalFault, m,
+        "UAV " + std::to_string(m) + ": " + *est.health_problem + " at epoch " + std::to_string(epoch)};
   }
   // A belief that ended the run after epoch 0 is neither observed nor scored; at epoch 0 the
   // run ends before any placement, and every UAV's start is still scored.
@@ -166,8 +165,8 @@ bool ClosedLoopPlanner::fault_active(UavFaultKind kind, int m, int iteration) co
   return false;
 }
 
-std::vector<CsiMeasurement> ClosedLoopPlanner::measure_csi(int m, const Eigen::Vector3d& q_m,
-                                                           int iteration, std::mt19937_64& rng) const {
+std::vector<CsiMeasurement> ClosedLoopPlanner::measure_csi(int m, const Eigen::Vector3d& q_m, int iteration,
+                                                           std::mt19937_64& rng) const {
   std::vector<CsiMeasurement> csi;
   if (!config_.refinement.use_csi) return csi;
   CsiMeasurement row = simulate_csi(model_, q_m, scenario_.noise_variance(), rng);
@@ -186,11 +185,10 @@ void ClosedLoopPlanner::watch_uavs(int iteration) {
       if (silent_since_[m] == 0) silent_since_[m] = iteration;
       const int silent = iteration - silent_since_[m] + 1;
       if (!fault_ && silent >= config_.unresponsive_after_iterations) {
-        fault_ = placement::PlannerFault{
-            placement::RunStatus::kUavUnresponsive, static_cast<int>(m),
-            "UAV " + std::to_string(m) + ": no measurement and no motion for " +
-                std::to_string(silent) + " iteration" + (silent == 1 ? "" : "s") +
-                " (since iteration " + std::to_string(silent_since_[m]) + ")"};
+        fault_ = placement::PlannerFault{placement::RunStatus::kUavUnresponsive, static_cast<int>(m),
+                                         "UAV " + std::to_string(m) + ": no measurement and no motion for " +
+                                             std::to_string(silent) + " iteration" + (silent == 1 ? "" : "s") +
+                                             " (since iteration " + std::to_string(silent_since_[m]) + ")"};
       }
     }
     heard_[m] = 0;
@@ -217,7 +215,7 @@ void ClosedLoopPlanner::iterate(placement::Swarm& swarm, int iteration) {
     throw std::logic_error("ClosedLoopPlanner::iterate before start()");
   if (fault_) return;
   if (iteration > 1) localize(swarm, iteration - 1);  // epoch 0 was start()'s (heard_ set there)
-  if (fault_) return;  // a non-finite belief never reaches placement
+  if (fault_) return;                                 // a non-finite belief never reaches placement
   escape_iteration_ = iteration;
 
   const double b_bf = bf_options_.step * std::pow(bf_options_.decay, iteration - 1);
@@ -249,8 +247,8 @@ void ClosedLoopPlanner::iterate(placement::Swarm& swarm, int iteration) {
     }
     if (swarm.true_positions_m().col(m) != q_before) heard_[m] = 1;
     if (observer_) {
-      observer_->on_move({iteration, m, static_cast<UavMode>(modes[m]), false, commanded,
-                          swarm.true_positions_m().col(m) - q_before});
+      observer_->on_move(
+          {iteration, m, static_cast<UavMode>(modes[m]), false, commanded, swarm.true_positions_m().col(m) - q_before});
     }
   }
   modes_.mode_trace.push_back(modes);
@@ -278,8 +276,8 @@ bool ClosedLoopPlanner::try_escape(placement::Swarm& swarm) {
     const Eigen::Vector3d q_before = swarm.true_positions_m().col(m);
     swarm.move(m, best_offset, placement::MotionKind::kPlacement);
     if (observer_) {
-      observer_->on_move({escape_iteration_, m, UavMode::kGd, true, best_offset,
-                          swarm.true_positions_m().col(m) - q_before});
+      observer_->on_move(
+          {escape_iteration_, m, UavMode::kGd, true, best_offset, swarm.true_positions_m().col(m) - q_before});
     }
     escape_rank_ = 0;
     return true;
@@ -305,14 +303,12 @@ ClosedLoopStats ClosedLoopPlanner::stats() const {
   return s;
 }
 
-ClosedLoopRun run_closed_loop(const placement::PlacementSettings& settings,
-                              const Eigen::Matrix3Xd& start_m, const ClosedLoopConfig& config,
-                              std::uint64_t seed, ClosedLoopObserver* observer) {
+ClosedLoopRun run_closed_loop(const placement::PlacementSettings& settings, const Eigen::Matrix3Xd& start_m,
+                              const ClosedLoopConfig& config, std::uint64_t seed, ClosedLoopObserver* observer) {
   placement::ErrorModel errors = settings.errors;
-  errors.sigma_loc_m = 0.0;  // the beliefs replace the Gaussian localization model
+  errors.sigma_loc_m = 0.0;                                // the beliefs replace the Gaussian localization model
   const placement::ChannelModel model(settings.scenario);  // the Swarm keeps a pointer to it
-  placement::Swarm swarm(model, start_m, errors,
-                         derive_seed(seed, Stream::kSwarm, 0));
+  placement::Swarm swarm(model, start_m, errors, derive_seed(seed, Stream::kSwarm, 0));
   ClosedLoopPlanner planner(settings.scenario, settings.gd, settings.bf, config, seed);
   planner.set_observer(observer);
   ClosedLoopRun out;

@@ -10,9 +10,7 @@
 
 namespace losmimo::fusion {
 
-std::string to_string(GdBeliefMode mode) {
-  return mode == GdBeliefMode::kMean ? "mean" : "sigma_points";
-}
+std::string to_string(GdBeliefMode mode) { return mode == GdBeliefMode::kMean ? "mean" : "sigma_points"; }
 
 GdBeliefMode gd_belief_mode_from_string(const std::string& text) {
   if (text == "mean") return GdBeliefMode::kMean;
@@ -22,17 +20,21 @@ GdBeliefMode gd_belief_mode_from_string(const std::string& text) {
 
 std::string to_string(UavFaultKind kind) {
   switch (kind) {
-    case UavFaultKind::kUnresponsive: return "unresponsive";
-    case UavFaultKind::kNanBeacon: return "nan_beacon";
-    case UavFaultKind::kNanDisplacement: return "nan_displacement";
-    case UavFaultKind::kNanCsi: return "nan_csi";
+    case UavFaultKind::kUnresponsive:
+      return "unresponsive";
+    case UavFaultKind::kNanBeacon:
+      return "nan_beacon";
+    case UavFaultKind::kNanDisplacement:
+      return "nan_displacement";
+    case UavFaultKind::kNanCsi:
+      return "nan_csi";
   }
   return "unknown";
 }
 
 UavFaultKind uav_fault_kind_from_string(const std::string& text) {
-  for (const UavFaultKind kind : {UavFaultKind::kUnresponsive, UavFaultKind::kNanBeacon,
-                                  UavFaultKind::kNanDisplacement, UavFaultKind::kNanCsi}) {
+  for (const UavFaultKind kind :
+       {UavFaultKind::kUnresponsive, UavFaultKind::kNanBeacon, UavFaultKind::kNanDisplacement, UavFaultKind::kNanCsi}) {
     if (to_string(kind) == text) return kind;
   }
   throw std::invalid_argument("fault kind '" + text +

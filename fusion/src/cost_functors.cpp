@@ -17,32 +17,26 @@ Eigen::MatrixXd sqrt_information(const Eigen::MatrixXd& cov, const char* who) {
   return L.triangularView<Eigen::Lower>().solve(Eigen::MatrixXd::Identity(cov.rows(), cov.cols()));
 }
 
-ceres::CostFunction* PositionPriorCost::Create(const Eigen::Vector3d& mean_m,
-                                               const Eigen::Matrix3d& cov_m2) {
+ceres::CostFunction* PositionPriorCost::Create(const Eigen::Vector3d& mean_m, const Eigen::Matrix3d& cov_m2) {
   return new ceres::AutoDiffCostFunction<PositionPriorCost, 3, 3>(
       new PositionPriorCost(mean_m, sqrt_information(cov_m2, "PositionPriorCost")));
 }
 
-ceres::CostFunction* BeaconCost::Create(double range_m, double azimuth_rad, double elevation_rad,
-                                        double sigma_range_m, double sigma_angle_rad) {
+ceres::CostFunction* BeaconCost::Create(double range_m, double azimuth_rad, double elevation_rad, double sigma_range_m,
+                                        double sigma_angle_rad) {
   return new ceres::AutoDiffCostFunction<BeaconCost, 3, 3>(
       new BeaconCost(range_m, azimuth_rad, elevation_rad, sigma_range_m, sigma_angle_rad));
 }
 
-ceres::CostFunction* DisplacementCost::Create(const Eigen::Vector3d& displacement_m,
-                                              double sigma_m) {
-  return new ceres::AutoDiffCostFunction<DisplacementCost, 3, 3, 3>(
-      new DisplacementCost(displacement_m, sigma_m));
+ceres::CostFunction* DisplacementCost::Create(const Eigen::Vector3d& displacement_m, double sigma_m) {
+  return new ceres::AutoDiffCostFunction<DisplacementCost, 3, 3, 3>(new DisplacementCost(displacement_m, sigma_m));
 }
 
-ceres::CostFunction* CsiPhaseCost::Create(const Eigen::VectorXd& measured_phase_rad,
-                                          const Eigen::Matrix3Xd& antennas_m,
+ceres::CostFunction* CsiPhaseCost::Create(const Eigen::VectorXd& measured_phase_rad, const Eigen::Matrix3Xd& antennas_m,
                                           double wavenumber_rad_per_m, double sigma_phase_rad) {
-  auto* functor =
-      new CsiPhaseCost(measured_phase_rad, antennas_m, wavenumber_rad_per_m, sigma_phase_rad);
+  auto* functor = new CsiPhaseCost(measured_phase_rad, antennas_m, wavenumber_rad_per_m, sigma_phase_rad);
   const int num_residuals = functor->num_residuals();
-  return new ceres::AutoDiffCostFunction<CsiPhaseCost, ceres::DYNAMIC, 3, 1>(functor,
-                                                                             num_residuals);
+  return new ceres::AutoDiffCostFunction<CsiPhaseCost, ceres::DYNAMIC, 3, 1>(functor, num_residuals);
 }
 
 }  // namespace losmimo::fusion

@@ -28,8 +28,7 @@ const localization::PositionFilter& UavEstimator::filter() const {
 EpochEstimate UavEstimator::start(EpochMeasurements measurements) {
   if (filter_) throw std::logic_error("UavEstimator::start called twice");
   EpochEstimate out;
-  const localization::InitialBelief initial =
-      localization::initial_belief(measurements.beacon, config_.filter, prior_);
+  const localization::InitialBelief initial = localization::initial_belief(measurements.beacon, config_.filter, prior_);
   out.initial_source = initial.source;
   out.rejected_beacon = initial.source == localization::InitialBeliefSource::kPriorImplausibleBeacon;
   if (initial.beacon_fix) out.beacon_fix_m = initial.beacon_fix->mean_m;
@@ -60,9 +59,9 @@ EpochEstimate UavEstimator::step(EpochMeasurements measurements) {
   if (measurements.beacon)
     out.beacon_fix_m = localization::beacon_to_position(localization::to_vector(*measurements.beacon));
   // A missing displacement is the filter's documented NaN input (filter.h).
-  filter_->step(measurements.displacement_m.value_or(
-                    Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())),
-                measurements.beacon);
+  filter_->step(
+      measurements.displacement_m.value_or(Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())),
+      measurements.beacon);
   out.filter_belief = filter_->belief();
   finish(measurements, out);
   return out;
@@ -97,7 +96,8 @@ void UavEstimator::finish(EpochMeasurements& measurements, EpochEstimate& out) {
   } else if (filter_->counters().non_finite_state > 0) {
     out.health_problem = filter + " state became non-finite (covariance reset)";
   } else if (refiner_) {
-    if (const auto refined = localization::health_problem(out.belief)) out.health_problem = "refined belief " + *refined;
+    if (const auto refined = localization::health_problem(out.belief))
+      out.health_problem = "refined belief " + *refined;
   }
 }
 

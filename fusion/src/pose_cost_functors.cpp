@@ -15,8 +15,7 @@ ceres::CostFunction* OdometryCost::Create(const Eigen::Vector4d& increment, cons
 
 ceres::CostFunction* RangeCost::Create(double range_m, const Eigen::Vector3d& sensor_on_robot_m,
                                        const Eigen::Vector3d& beacon_m, double sigma_m) {
-  return new ceres::AutoDiffCostFunction<RangeCost, 1, 4>(
-      new RangeCost(range_m, sensor_on_robot_m, beacon_m, sigma_m));
+  return new ceres::AutoDiffCostFunction<RangeCost, 1, 4>(new RangeCost(range_m, sensor_on_robot_m, beacon_m, sigma_m));
 }
 
 }  // namespace losmimo::fusion

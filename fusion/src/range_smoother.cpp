@@ -75,7 +75,8 @@ ScreenedTrack screen_track(const localization::PoseFilterConfig& config, const l
           continue;
         }
         const UsableRange u{*beacons.find(r.beacon_id), r.sensor_on_robot_m, r.range_m, sigma_m};
-        if (!(localization::range_predict(seed, u.sensor_on_robot_m, u.beacon_m) >= localization::kMinRangeGeometry_m)) {
+        if (!(localization::range_predict(seed, u.sensor_on_robot_m, u.beacon_m) >=
+              localization::kMinRangeGeometry_m)) {
           continue;
         }
         t.ranges[k].push_back(u);
@@ -180,8 +181,7 @@ void validate(const RangeSmootherConfig& c) {
 }
 
 RangeSmootherResult smooth_range_track(const localization::PoseFilterConfig& config,
-                                       const localization::BeaconMap& beacons,
-                                       const std::vector<SmootherFrame>& frames,
+                                       const localization::BeaconMap& beacons, const std::vector<SmootherFrame>& frames,
                                        const RangeSmootherConfig& smoother) {
   validate(smoother);
   localization::validate(config);
@@ -196,7 +196,8 @@ RangeSmootherResult smooth_range_track(const localization::PoseFilterConfig& con
       solve(config, frames, screened, smoother, 0, last, 1, out);
     } else {
       const std::size_t w = static_cast<std::size_t>(smoother.window_frames);
-      for (std::size_t k = 1; k <= last; ++k) solve(config, frames, screened, smoother, k + 1 > w ? k + 1 - w : 0, k, k, out);
+      for (std::size_t k = 1; k <= last; ++k)
+        solve(config, frames, screened, smoother, k + 1 > w ? k + 1 - w : 0, k, k, out);
     }
   }
   const double scale = std::sqrt(config.range_gate_chi2);

@@ -60,19 +60,16 @@ DeadReckoning dead_reckoning(const RefinementConfig& config, const std::vector<R
 // 3 i. Returns the number of beacon blocks added.
 int add_prior_motion_and_beacons(ceres::Problem& problem, const RefinementConfig& config,
                                  const std::vector<RefinementEpoch>& window, double* q) {
-  problem.AddResidualBlock(PositionPriorCost::Create(window.front().filter_belief.mean_m,
-                                                     window.front().filter_belief.cov_m2),
-                           nullptr, q);
+  problem.AddResidualBlock(
+      PositionPriorCost::Create(window.front().filter_belief.mean_m, window.front().filter_belief.cov_m2), nullptr, q);
   int num_beacons = 0;
   for (int i = 1; i < static_cast<int>(window.size()); ++i) {
     const Eigen::Vector3d& d = *window[i].displacement_m;
-    problem.AddResidualBlock(DisplacementCost::Create(d, dr_sigma_m(config, d)), nullptr,
-                             q + 3 * (i - 1), q + 3 * i);
+    problem.AddResidualBlock(DisplacementCost::Create(d, dr_sigma_m(config, d)), nullptr, q + 3 * (i - 1), q + 3 * i);
     if (config.use_beacons && window[i].beacon) {
       const localization::BeaconMeasurement& z = *window[i].beacon;
       problem.AddResidualBlock(BeaconCost::Create(z.range_m, z.azimuth_rad, z.elevation_rad,
-                                                  config.beacon_sigma_range_m,
-                                                  config.beacon_sigma_angle_rad),
+                                                  config.beacon_sigma_range_m, config.beacon_sigma_angle_rad),
                                nullptr, q + 3 * i);
       ++num_beacons;
     }
@@ -83,9 +80,8 @@ int add_prior_motion_and_beacons(ceres::Problem& problem, const RefinementConfig
 // One phase residual block per CSI row, epochs in order, each with its own reference phase
 // psi_rad[j] (j counts the rows), started at csi_reference_phase_rad from the initial q_i.
 // Throws std::invalid_argument for a row that does not have one entry per BS antenna.
-void add_csi_phases(ceres::Problem& problem, const placement::ChannelModel& model,
-                    const RefinementConfig& config, const std::vector<RefinementEpoch>& window, double* q,
-                    double* psi_rad) {
+void add_csi_phases(ceres::Problem& problem, const placement::ChannelModel& model, const RefinementConfig& config,
+                    const std::vector<RefinementEpoch>& window, double* q, double* psi_rad) {
   const int nt = model.num_antennas();
   const double sigma_phase = csi_phase_sigma_rad(config.csi_noise_variance);
   for (int i = 0; i < static_cast<int>(window.size()); ++i) {
@@ -93,16 +89,15 @@ void add_csi_phases(ceres::Problem& problem, const placement::ChannelModel& mode
     const Eigen::Vector3d q_init(q_i[0], q_i[1], q_i[2]);
     for (const CsiMeasurement& csi : window[i].csi) {
       if (csi.y.size() != nt) {
-        throw std::invalid_argument("refine_window: a CSI row at epoch " + std::to_string(i) +
-                                    " has " + std::to_string(csi.y.size()) +
-                                    " entries, expected " + std::to_string(nt));
+        throw std::invalid_argument("refine_window: a CSI row at epoch " + std::to_string(i) + " has " +
+                                    std::to_string(csi.y.size()) + " entries, expected " + std::to_string(nt));
       }
       Eigen::VectorXd phase(nt);
       for (int k = 0; k < nt; ++k) phase(k) = std::arg(csi.y(k));
       *psi_rad = csi_reference_phase_rad(model, csi, q_init);
-      problem.AddResidualBlock(CsiPhaseCost::Create(phase, model.antennas_m(),
-                                                    model.wavenumber_rad_per_m(), sigma_phase),
-                               nullptr, q_i, psi_rad);
+      problem.AddResidualBlock(
+          CsiPhaseCost::Create(phase, model.antennas_m(), model.wavenumber_rad_per_m(), sigma_phase), nullptr, q_i,
+          psi_rad);
       ++psi_rad;
     }
   }
@@ -144,8 +139,7 @@ void validate(const RefinementConfig& c) {
   require(r::min_reciprocal_condition_number, c.min_reciprocal_condition_number, "min_reciprocal_condition_number");
 }
 
-RefinementConfig refinement_config_from(const localization::NoiseModel& noise,
-                                        double csi_noise_variance) {
+RefinementConfig refinement_config_from(const localization::NoiseModel& noise, double csi_noise_variance) {
   RefinementConfig c;
   c.beacon_sigma_range_m = noise.sigma_range_m;
   c.beacon_sigma_angle_rad = noise.sigma_angle_rad;
@@ -206,8 +200,7 @@ RefinementResult refine_window(const placement::ChannelModel& model, const Refin
   }
   result.belief.mean_m = result.window_positions_m.col(num_epochs - 1);
   const bool have_covariance =
-      summary.IsSolutionUsable() &&
-      newest_covariance(problem, config, q + 3 * (num_epochs - 1), result.belief.cov_m2);
+      summary.IsSolutionUsable() && newest_covariance(problem, config, q + 3 * (num_epochs - 1), result.belief.cov_m2);
   if (!have_covariance) {
     result.covariance_source = CovarianceSource::kDeadReckoning;
     result.belief.cov_m2 = dr.newest_cov_m2;
@@ -216,8 +209,7 @@ RefinementResult refine_window(const placement::ChannelModel& model, const Refin
   return result;
 }
 
-SlidingWindowRefiner::SlidingWindowRefiner(const placement::Scenario& scenario,
-                                           const RefinementConfig& config)
+SlidingWindowRefiner::SlidingWindowRefiner(const placement::Scenario& scenario, const RefinementConfig& config)
     : model_(scenario), config_(config) {
   validate(config_);
 }

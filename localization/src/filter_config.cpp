@@ -14,17 +14,21 @@ FilterKind filter_kind_from_string(const std::string& text) {
 
 std::string to_string(ResamplingMethod method) {
   switch (method) {
-    case ResamplingMethod::kMultinomial: return "multinomial";
-    case ResamplingMethod::kResidual: return "residual";
-    case ResamplingMethod::kStratified: return "stratified";
-    case ResamplingMethod::kSystematic: return "systematic";
+    case ResamplingMethod::kMultinomial:
+      return "multinomial";
+    case ResamplingMethod::kResidual:
+      return "residual";
+    case ResamplingMethod::kStratified:
+      return "stratified";
+    case ResamplingMethod::kSystematic:
+      return "systematic";
   }
   return "unknown";
 }
 
 ResamplingMethod resampling_method_from_string(const std::string& text) {
-  for (const auto method : {ResamplingMethod::kMultinomial, ResamplingMethod::kResidual,
-                            ResamplingMethod::kStratified, ResamplingMethod::kSystematic}) {
+  for (const auto method : {ResamplingMethod::kMultinomial, ResamplingMethod::kResidual, ResamplingMethod::kStratified,
+                            ResamplingMethod::kSystematic}) {
     if (to_string(method) == text) return method;
   }
   throw std::invalid_argument("localization: resampling method '" + text +

@@ -8,10 +8,14 @@ namespace {
 
 mrpt::bayes::CParticleFilter::TParticleResamplingAlgorithm to_mrpt(ResamplingMethod method) {
   switch (method) {
-    case ResamplingMethod::kMultinomial: return mrpt::bayes::CParticleFilter::prMultinomial;
-    case ResamplingMethod::kResidual: return mrpt::bayes::CParticleFilter::prResidual;
-    case ResamplingMethod::kStratified: return mrpt::bayes::CParticleFilter::prStratified;
-    case ResamplingMethod::kSystematic: return mrpt::bayes::CParticleFilter::prSystematic;
+    case ResamplingMethod::kMultinomial:
+      return mrpt::bayes::CParticleFilter::prMultinomial;
+    case ResamplingMethod::kResidual:
+      return mrpt::bayes::CParticleFilter::prResidual;
+    case ResamplingMethod::kStratified:
+      return mrpt::bayes::CParticleFilter::prStratified;
+    case ResamplingMethod::kSystematic:
+      return mrpt::bayes::CParticleFilter::prSystematic;
   }
   return mrpt::bayes::CParticleFilter::prSystematic;
 }

@@ -61,8 +61,7 @@ double normalized_ess(const std::vector<double>& log_weights) {
   return 1.0 / (static_cast<double>(w.size()) * sum_sq);
 }
 
-std::vector<std::size_t> resampling_indices(ResamplingMethod method,
-                                            const std::vector<double>& log_weights,
+std::vector<std::size_t> resampling_indices(ResamplingMethod method, const std::vector<double>& log_weights,
                                             mrpt::random::CRandomGenerator& rng) {
   if (log_weights.empty()) {
     throw std::invalid_argument("localization: resampling_indices needs at least one weight");

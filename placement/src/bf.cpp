@@ -92,9 +92,8 @@ void BruteForcePlanner::start(Swarm& swarm) {
 
 Eigen::Vector3d bf_probe_direction(int probe) {
   static const Eigen::Vector3d kDirections[kBfNumProbes] = {
-      Eigen::Vector3d(0, 0, 0),  Eigen::Vector3d(1, 0, 0),  Eigen::Vector3d(-1, 0, 0),
-      Eigen::Vector3d(0, 1, 0),  Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(0, 0, 1),
-      Eigen::Vector3d(0, 0, -1)};
+      Eigen::Vector3d(0, 0, 0),  Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(-1, 0, 0), Eigen::Vector3d(0, 1, 0),
+      Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, -1)};
   if (probe < 0 || probe >= kBfNumProbes) {
     throw std::out_of_range("bf_probe_direction: probe " + std::to_string(probe) + " is not in [0, " +
                             std::to_string(kBfNumProbes) + ")");
@@ -162,8 +161,8 @@ void BruteForcePlanner::iterate(Swarm& swarm, int iteration) {
   for (int m = 0; m < swarm.num_uavs(); ++m) {
     const double b_m = std::max(b * step_scale_(m), std::min(b, options_.min_step_m));
     const bool moved = step_uav(swarm, m, b_m, options_.probe_actuation) != 0;
-    step_scale_(m) = moved ? std::min(1.0, step_scale_(m) / options_.contraction)
-                           : step_scale_(m) * options_.contraction;
+    step_scale_(m) =
+        moved ? std::min(1.0, step_scale_(m) / options_.contraction) : step_scale_(m) * options_.contraction;
   }
   const double f = swarm.channel().objective();
   if (options_.escape && stall_.update(f) && swarm.escape_allowed(f) && try_escape(swarm)) {

@@ -83,8 +83,7 @@ Eigen::MatrixXcd ChannelModel::matrix(const Eigen::Matrix3Xd& q_m) const {
   return H;
 }
 
-void ChannelModel::row_derivative_terms(const Eigen::Vector3d& q_m, Eigen::VectorXcd& s,
-                                        Eigen::Matrix3Xd& U) const {
+void ChannelModel::row_derivative_terms(const Eigen::Vector3d& q_m, Eigen::VectorXcd& s, Eigen::Matrix3Xd& U) const {
   const int nt = num_antennas();
   s.resize(nt);
   U.resize(3, nt);

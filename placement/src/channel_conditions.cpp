@@ -39,9 +39,9 @@ void validate(const ChannelSettings& s) {
   if (!(s.csi_snr_db == kInf || (s.csi_snr_db >= kMinCsiSnr_db && s.csi_snr_db <= kMaxCsiSnr_db)))
     bad_db("csi_snr_db", s.csi_snr_db, kMinCsiSnr_db, kMaxCsiSnr_db);
   if (s.coherence_iterations < 1 || s.coherence_iterations > kMaxCoherenceIterations) {
-    throw common::FieldError("coherence_iterations", "channel.coherence_iterations = " +
-                                                         std::to_string(s.coherence_iterations) +
-                                                         ": must be in [1, 1000000] (a block lasts at least one iteration)");
+    throw common::FieldError("coherence_iterations",
+                             "channel.coherence_iterations = " + std::to_string(s.coherence_iterations) +
+                                 ": must be in [1, 1000000] (a block lasts at least one iteration)");
   }
   if (s.fading_eval_draws < 1 || s.fading_eval_draws > kMaxFadingEvalDraws) {
     throw common::FieldError("fading_eval_draws", "channel.fading_eval_draws = " + std::to_string(s.fading_eval_draws) +
@@ -59,9 +59,7 @@ double parse_db_or_inf(const std::string& text, const std::string& where, double
   return v;
 }
 
-std::string format_db_or_inf(double value_db) {
-  return value_db == kInf ? "inf" : common::format_double(value_db);
-}
+std::string format_db_or_inf(double value_db) { return value_db == kInf ? "inf" : common::format_double(value_db); }
 
 void complex_normals(std::uint64_t key, std::uint64_t first, int n, std::complex<double>* z) {
   if (n <= 0) return;

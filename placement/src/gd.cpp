@@ -64,8 +64,7 @@ bool GradientDescentPlanner::try_escape(Swarm& swarm) {
   return moved;
 }
 
-Eigen::Vector3d GradientDescentPlanner::plan_move(const Swarm& swarm, int m,
-                                                  const Eigen::Vector3d& q_hat_m,
+Eigen::Vector3d GradientDescentPlanner::plan_move(const Swarm& swarm, int m, const Eigen::Vector3d& q_hat_m,
                                                   int iteration) const {
   return plan_step(swarm, m, q_hat_m, options_.step * std::pow(options_.decay, iteration - 1));
 }

@@ -24,7 +24,7 @@ namespace {
 // that makes a matrix-vector call per column, whose setup costs more than its arithmetic at
 // 16 x 16, on a dense copy of G converted from the planes.
 bool ldl_fails(const kernels::Kernels& kern, const kernels::GramPlanes& G, double s,
-                    Eigen::VectorXcd* witness = nullptr) {
+               Eigen::VectorXcd* witness = nullptr) {
   const int n = G.n, ld = G.ld;
   thread_local std::vector<double> Lr, Li;
   Lr.resize(static_cast<std::size_t>(ld) * n);
@@ -160,8 +160,8 @@ bool lanczos_proves(const kernels::Kernels& kern, const kernels::GramPlanes& G, 
 // Stages 0 to 2 each raise the lower bound lambda_lo <= lambda_max (from G_jj <= lambda_max)
 // and try to prove lambda_min below the shift it gives.
 template <typename MatVec, typename IsFinite, typename Planes>
-bool icn_below_impl(const Eigen::VectorXd& diag, int num_rows, double threshold, IcnWarmStart* warm,
-                    MatVec&& matvec, IsFinite&& is_finite, const kernels::Kernels& kern, Planes&& planes) {
+bool icn_below_impl(const Eigen::VectorXd& diag, int num_rows, double threshold, IcnWarmStart* warm, MatVec&& matvec,
+                    IsFinite&& is_finite, const kernels::Kernels& kern, Planes&& planes) {
   const Eigen::Index n = diag.size();
   if (num_rows < n || n == 0) return threshold > 0.0;  // ICN is 0
   if (!(threshold > 0.0)) return false;

@@ -8,9 +8,12 @@ namespace losmimo::placement {
 
 std::string to_string(Isa isa) {
   switch (isa) {
-    case Isa::kSse2: return "sse2";
-    case Isa::kAvx2: return "avx2";
-    case Isa::kAvx512: return "avx512";
+    case Isa::kSse2:
+      return "sse2";
+    case Isa::kAvx2:
+      return "avx2";
+    case Isa::kAvx512:
+      return "avx512";
   }
   return "unknown";
 }
@@ -35,8 +38,10 @@ bool isa_supported(Isa isa) {
 #if defined(__x86_64__) && defined(__GNUC__)
   __builtin_cpu_init();
   switch (isa) {
-    case Isa::kSse2: return true;  // the x86-64 baseline
-    case Isa::kAvx2: return __builtin_cpu_supports("avx2");
+    case Isa::kSse2:
+      return true;  // the x86-64 baseline
+    case Isa::kAvx2:
+      return __builtin_cpu_supports("avx2");
     case Isa::kAvx512:
       // The AVX-512 kernels also use DQ (64-bit integer multiplies, conversions) and VL.
       return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
@@ -64,8 +69,8 @@ Isa choose_isa() {
   try {
     isa = isa_from_string(forced);
   } catch (const std::invalid_argument&) {
-    throw std::invalid_argument(std::string(kIsaEnvironmentVariable) + " = '" + forced + "': " +
-                                isa_name_requirement());
+    throw std::invalid_argument(std::string(kIsaEnvironmentVariable) + " = '" + forced +
+                                "': " + isa_name_requirement());
   }
   if (!isa_supported(isa)) {
     std::string have;

@@ -17,13 +17,17 @@ const Kernels& kernels_for(Isa isa) {
   }
   switch (isa) {
 #if defined(LOSMIMO_HAVE_X86_KERNELS)
-    case Isa::kAvx512: return kAvx512Table;
-    case Isa::kAvx2: return kAvx2Table;
+    case Isa::kAvx512:
+      return kAvx512Table;
+    case Isa::kAvx2:
+      return kAvx2Table;
 #else
     case Isa::kAvx512:
-    case Isa::kAvx2: break;
+    case Isa::kAvx2:
+      break;
 #endif
-    case Isa::kSse2: return kSse2Table;
+    case Isa::kSse2:
+      return kSse2Table;
   }
   return kSse2Table;
 }

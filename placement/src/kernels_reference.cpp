@@ -14,9 +14,7 @@ namespace {
 using cd = std::complex<double>;
 
 cd at(const double* re, const double* im, int i) { return {re[i], im[i]}; }
-cd gram(const GramPlanes& G, int l, int k) {
-  return at(G.re, G.im, l + k * G.ld);
-}
+cd gram(const GramPlanes& G, int l, int k) { return at(G.re, G.im, l + k * G.ld); }
 
 void unit_phasors(const double* phase_rad, double* c, double* s, int n) {
   for (int k = 0; k < n; ++k) {
@@ -216,10 +214,10 @@ void normals(std::uint64_t key, std::uint64_t first_block, double* out, int bloc
 }  // namespace
 
 const Kernels& reference_kernels() {
-  static const Kernels table = {Isa::kSse2,          &unit_phasors, &row,        &rows_lanes,
-                                &leave_one_out_energy, &objectives_lanes, &objective_of_row, &objective_at,
-                                &gradient,           &gram_update,  &gram_of_rows, &hermitian_matvec, &shifted_ldl,
-                                &reorthogonalise,    &normals};
+  static const Kernels table = {
+      Isa::kSse2,        &unit_phasors,     &row,          &rows_lanes,      &leave_one_out_energy,
+      &objectives_lanes, &objective_of_row, &objective_at, &gradient,        &gram_update,
+      &gram_of_rows,     &hermitian_matvec, &shifted_ldl,  &reorthogonalise, &normals};
   return table;
 }
 

@@ -34,7 +34,8 @@ Eigen::Matrix3Xd parse_positions_csv(std::istream& in, const std::string& origin
   std::string line;
   int line_no = 0;
   bool seen_data = false;
-  while (common::getline_bounded(in, line, common::kMaxPositionsLineBytes, origin + ":" + std::to_string(line_no + 1))) {
+  while (
+      common::getline_bounded(in, line, common::kMaxPositionsLineBytes, origin + ":" + std::to_string(line_no + 1))) {
     ++line_no;
     const std::string where = origin + ":" + std::to_string(line_no);
     // A UTF-8 byte-order mark (written by some editors) is not part of the first field.
@@ -60,7 +61,8 @@ Eigen::Matrix3Xd parse_positions_csv(std::istream& in, const std::string& origin
       q(i) = common::parse_double(fields[i], field_where, kFieldNames[i]);
       // Beyond this, distances overflow (|q| ~ 1e154 m) or phases lose all precision.
       if (!(std::abs(q(i)) <= kMaxAbsCoordinate_m)) {
-        throw common::InputError(field_where + ": " + strip(fields[i]) + " is out of range [-1e9, 1e9] m", kFieldNames[i]);
+        throw common::InputError(field_where + ": " + strip(fields[i]) + " is out of range [-1e9, 1e9] m",
+                                 kFieldNames[i]);
       }
     }
     rows.push_back(q);

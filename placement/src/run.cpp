@@ -22,10 +22,14 @@ void validate(const RunOptions& o) {
 
 std::string to_string(RunStatus status) {
   switch (status) {
-    case RunStatus::kConverged: return "converged";
-    case RunStatus::kIterationCap: return "iteration_cap";
-    case RunStatus::kUavUnresponsive: return "uav_unresponsive";
-    case RunStatus::kNumericalFault: return "numerical_fault";
+    case RunStatus::kConverged:
+      return "converged";
+    case RunStatus::kIterationCap:
+      return "iteration_cap";
+    case RunStatus::kUavUnresponsive:
+      return "uav_unresponsive";
+    case RunStatus::kNumericalFault:
+      return "numerical_fault";
   }
   return "unknown";
 }
@@ -56,16 +60,15 @@ std::optional<PlannerFault> check_finite(const Swarm& swarm) {
   std::ostringstream reason;
   for (Eigen::Index m = 0; m < q.cols(); ++m) {
     if (!q.col(m).allFinite()) {
-      reason << "UAV " << m << ": position is non-finite (q = (" << q(0, m) << ", " << q(1, m)
-             << ", " << q(2, m) << "))";
+      reason << "UAV " << m << ": position is non-finite (q = (" << q(0, m) << ", " << q(1, m) << ", " << q(2, m)
+             << "))";
       return PlannerFault{RunStatus::kNumericalFault, static_cast<int>(m), reason.str()};
     }
   }
   for (Eigen::Index m = 0; m < H.rows(); ++m) {
     for (Eigen::Index k = 0; k < H.cols(); ++k) {
       if (!std::isfinite(H(m, k).real()) || !std::isfinite(H(m, k).imag())) {
-        reason << "UAV " << m << ": channel row is non-finite (H(" << m << ", " << k
-               << ") = " << H(m, k) << ")";
+        reason << "UAV " << m << ": channel row is non-finite (H(" << m << ", " << k << ") = " << H(m, k) << ")";
         return PlannerFault{RunStatus::kNumericalFault, static_cast<int>(m), reason.str()};
       }
     }
@@ -98,12 +101,11 @@ const Eigen::VectorXd& placement_distances(const Swarm& swarm, const RunOptions&
                                                       : swarm.placement_distance_m();
 }
 const Eigen::VectorXd& probe_distances(const Swarm& swarm, const RunOptions& options) {
-  return options.distance == DistanceKind::kCommanded ? swarm.commanded_probe_distance_m()
-                                                      : swarm.probe_distance_m();
+  return options.distance == DistanceKind::kCommanded ? swarm.commanded_probe_distance_m() : swarm.probe_distance_m();
 }
 
-IterationRecord record(const Swarm& swarm, int iteration, const RunOptions& options,
-                       double proven_below, IcnWarmStart& icn_warm_start) {
+IterationRecord record(const Swarm& swarm, int iteration, const RunOptions& options, double proven_below,
+                       IcnWarmStart& icn_warm_start) {
   IterationRecord r;
   r.iteration = iteration;
   const SwarmChannel& ch = swarm.channel();
@@ -158,8 +160,7 @@ RunResult run_placement(Planner& planner, Swarm& swarm, const RunOptions& option
     double pending = options.target_icn;
     if (!result.icn050.reached) pending = std::min(pending, 0.5);
     if (!result.icn095.reached) pending = std::min(pending, 0.95);
-    result.trace.push_back(record(swarm, iteration, options, options.full_icn_trace ? 0.0 : pending,
-                                  icn_warm_start));
+    result.trace.push_back(record(swarm, iteration, options, options.full_icn_trace ? 0.0 : pending, icn_warm_start));
     const IterationRecord& r = result.trace.back();
     update_milestone(result.icn050, r, 0.5, options.milestone_distance_includes_probes);
     update_milestone(result.icn095, r, 0.95, options.milestone_distance_includes_probes);
@@ -174,8 +175,7 @@ RunResult run_placement(Planner& planner, Swarm& swarm, const RunOptions& option
   const auto health = [&](int iteration) -> std::optional<PlannerFault> {
     std::optional<PlannerFault> fault = planner.fault();
     if (!fault && swarm.numerical_fault()) {
-      fault = PlannerFault{RunStatus::kNumericalFault, swarm.numerical_fault()->uav,
-                           swarm.numerical_fault()->reason};
+      fault = PlannerFault{RunStatus::kNumericalFault, swarm.numerical_fault()->uav, swarm.numerical_fault()->reason};
     }
     if (!fault) fault = check_finite(swarm);
     if (fault) fault->reason += " at iteration " + std::to_string(iteration);

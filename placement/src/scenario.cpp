@@ -9,9 +9,7 @@
 
 namespace losmimo::placement {
 
-std::string to_string(GainModel model) {
-  return model == GainModel::kExact ? "exact" : "far_field";
-}
+std::string to_string(GainModel model) { return model == GainModel::kExact ? "exact" : "far_field"; }
 
 GainModel gain_model_from_string(const std::string& text) {
   if (text == "far_field") return GainModel::kFarField;
@@ -40,8 +38,9 @@ void validate(const Scenario& s) {
   require(r::cube_center_m, s.cube_center_m.y(), "cube_center_y_m");
   require(r::cube_center_m, s.cube_center_m.z(), "cube_center_z_m");
   if (!(s.cube_center_m.x() - 0.5 * s.cube_side_m > 0.0)) {
-    throw common::FieldError("cube_center_x_m", "scenario.cube_center_x_m = " + common::format_double(s.cube_center_m.x()) +
-                                                    ": the start cube must lie entirely in front of the BS (x > 0)");
+    throw common::FieldError("cube_center_x_m",
+                             "scenario.cube_center_x_m = " + common::format_double(s.cube_center_m.x()) +
+                                 ": the start cube must lie entirely in front of the BS (x > 0)");
   }
   require(r::snr_db, s.snr_db, "snr_db");
 }

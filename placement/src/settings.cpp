@@ -16,24 +16,29 @@ std::vector<common::Key<Scenario>> scenario_keys() {
   return {
       K::integer("scenario", "bs_rows", &Scenario::bs_rows, scenario_range::bs_rows, "BS array rows", "2"),
       K::integer("scenario", "bs_cols", &Scenario::bs_cols, scenario_range::bs_cols, "BS array columns", "8"),
-      K::real("scenario", "bs_spacing_m", &Scenario::bs_spacing_m, scenario_range::bs_spacing_m, "BS antenna spacing [m]", "0.5"),
-      K::real("scenario", "carrier_hz", &Scenario::carrier_hz, scenario_range::carrier_hz, "carrier frequency [Hz]", "3e+10"),
+      K::real("scenario", "bs_spacing_m", &Scenario::bs_spacing_m, scenario_range::bs_spacing_m,
+              "BS antenna spacing [m]", "0.5"),
+      K::real("scenario", "carrier_hz", &Scenario::carrier_hz, scenario_range::carrier_hz, "carrier frequency [Hz]",
+              "3e+10"),
       K::integer("scenario", "num_uavs", &Scenario::num_uavs, scenario_range::num_uavs, "swarm size", "9"),
-      K::real("scenario", "cube_side_m", &Scenario::cube_side_m, scenario_range::cube_side_m, "side of the start cube [m]", "20"),
-      K::real("scenario", "cube_center_x_m", [](auto& s) -> auto& { return s.cube_center_m.x(); }, scenario_range::cube_center_m,
-              "start cube centre x, along the link from the BS [m]", "500"),
-      K::real("scenario", "cube_center_y_m", [](auto& s) -> auto& { return s.cube_center_m.y(); }, scenario_range::cube_center_m,
-              "start cube centre y [m]", "10"),
-      K::real("scenario", "cube_center_z_m", [](auto& s) -> auto& { return s.cube_center_m.z(); }, scenario_range::cube_center_m,
-              "start cube centre z [m]", "-10"),
-      K::real("scenario", "snr_db", &Scenario::snr_db, scenario_range::snr_db, "SNR per BS-antenna-to-UAV link at the swarm range [dB]",
-              "20"),
-      K::text("scenario", "gain_model",
-              [](Scenario& s, const std::string& text, const std::string&) {
-                s.gain_model = gain_model_from_string(text);
-              },
-              [](const Scenario& s) { return to_string(s.gain_model); }, "far_field | exact",
-              "channel amplitudes: far-field (the paper's) or exact per-antenna distances", "exact"),
+      K::real("scenario", "cube_side_m", &Scenario::cube_side_m, scenario_range::cube_side_m,
+              "side of the start cube [m]", "20"),
+      K::real(
+          "scenario", "cube_center_x_m", [](auto& s) -> auto& { return s.cube_center_m.x(); },
+          scenario_range::cube_center_m, "start cube centre x, along the link from the BS [m]", "500"),
+      K::real(
+          "scenario", "cube_center_y_m", [](auto& s) -> auto& { return s.cube_center_m.y(); },
+          scenario_range::cube_center_m, "start cube centre y [m]", "10"),
+      K::real(
+          "scenario", "cube_center_z_m", [](auto& s) -> auto& { return s.cube_center_m.z(); },
+          scenario_range::cube_center_m, "start cube centre z [m]", "-10"),
+      K::real("scenario", "snr_db", &Scenario::snr_db, scenario_range::snr_db,
+              "SNR per BS-antenna-to-UAV link at the swarm range [dB]", "20"),
+      K::text(
+          "scenario", "gain_model",
+          [](Scenario& s, const std::string& text, const std::string&) { s.gain_model = gain_model_from_string(text); },
+          [](const Scenario& s) { return to_string(s.gain_model); }, "far_field | exact",
+          "channel amplitudes: far-field (the paper's) or exact per-antenna distances", "exact"),
   };
 }
 
@@ -42,7 +47,8 @@ template <typename S, typename Field, typename From>
 common::Key<S> choice(const std::string& section, const std::string& key, Field S::*field, From from_string,
                       const std::string& rule, const std::string& doc, const std::string& example) {
   return common::Key<S>::text(
-             section, key, [field, from_string](S& s, const std::string& text, const std::string&) { s.*field = from_string(text); },
+             section, key,
+             [field, from_string](S& s, const std::string& text, const std::string&) { s.*field = from_string(text); },
              [field](const S& s) { return to_string(s.*field); }, rule, doc, example)
       .unless_default();
 }
@@ -50,11 +56,13 @@ common::Key<S> choice(const std::string& section, const std::string& key, Field 
 std::vector<common::Key<ErrorModel>> error_keys() {
   using K = common::Key<ErrorModel>;
   return {
-      K::real("errors", "sigma_loc_m", &ErrorModel::sigma_loc_m, error_range::sigma_loc_m, "localization error 1-sigma per axis [m]", "0.1"),
-      K::real("errors", "sigma_act_m", &ErrorModel::sigma_act_m, error_range::sigma_act_m, "actuation error 1-sigma per axis [m]", "0.1"),
+      K::real("errors", "sigma_loc_m", &ErrorModel::sigma_loc_m, error_range::sigma_loc_m,
+              "localization error 1-sigma per axis [m]", "0.1"),
+      K::real("errors", "sigma_act_m", &ErrorModel::sigma_act_m, error_range::sigma_act_m,
+              "actuation error 1-sigma per axis [m]", "0.1"),
       choice("errors", "sigma_convention", &ErrorModel::sigma_convention, &sigma_convention_from_string,
-             "per_axis | rms_3d",
-             "the sigmas per axis, or the RMS length of the 3-D error (sigma / sqrt(3) per axis)", "rms_3d"),
+             "per_axis | rms_3d", "the sigmas per axis, or the RMS length of the 3-D error (sigma / sqrt(3) per axis)",
+             "rms_3d"),
       choice("errors", "loc_error", &ErrorModel::loc_error, &loc_error_from_string, "fresh | fixed_per_uav",
              "localization error drawn at every estimate, or once per UAV and run (a bias)", "fixed_per_uav"),
   };
@@ -63,11 +71,12 @@ std::vector<common::Key<ErrorModel>> error_keys() {
 std::vector<common::Key<RunOptions>> run_keys() {
   using K = common::Key<RunOptions>;
   return {
-      K::real("placement", "target_icn", &RunOptions::target_icn, run_range::target_icn, "the run stops at this ICN", "0.9"),
+      K::real("placement", "target_icn", &RunOptions::target_icn, run_range::target_icn, "the run stops at this ICN",
+              "0.9"),
       K::integer("placement", "max_iterations", &RunOptions::max_iterations,
                  // At least one: 0 only evaluates the start (a report's "iterations to ICN 0.95: 0").
-                 common::Range::closed(1, run_range::max_iterations.hi),
-                 "the run stops after this many iterations", "50"),
+                 common::Range::closed(1, run_range::max_iterations.hi), "the run stops after this many iterations",
+                 "50"),
       choice("placement", "stop_on", &RunOptions::stop_on, &stop_on_from_string, "csi | belief",
              "the stop test's ICN: of the measured channel, or of the planner's believed positions", "belief"),
       choice("placement", "distance", &RunOptions::distance, &distance_kind_from_string, "true_path | commanded",
@@ -96,18 +105,22 @@ std::vector<common::Key<GdOptions>> gd_keys() {
   return {
       K::real("gd", "step", &GdOptions::step, gd_range::step, "initial step, per unit gradient", "0.1"),
       K::real("gd", "decay", &GdOptions::decay, gd_range::decay, "step decay per iteration", "0.99"),
-      K::real("gd", "max_move_m", &GdOptions::max_move_m, gd_range::max_move_m, "largest move per iteration [m]", "0.25"),
+      K::real("gd", "max_move_m", &GdOptions::max_move_m, gd_range::max_move_m, "largest move per iteration [m]",
+              "0.25"),
       K::boolean("gd", "backtracking", &GdOptions::backtracking, "halve a step that does not decrease f", "false"),
-      K::integer("gd", "max_halvings", &GdOptions::max_halvings, gd_range::max_halvings, "halvings per backtracking", "3"),
+      K::integer("gd", "max_halvings", &GdOptions::max_halvings, gd_range::max_halvings, "halvings per backtracking",
+                 "3"),
       K::boolean("gd", "escape", &GdOptions::escape, "lateral search of a stalled UAV (stall.h)", "false"),
-      K::integer("gd", "stall_window", &GdOptions::stall_window, gd_range::stall_window, "stall window [iterations]", "10"),
+      K::integer("gd", "stall_window", &GdOptions::stall_window, gd_range::stall_window, "stall window [iterations]",
+                 "10"),
       K::real("gd", "stall_min_decrease", &GdOptions::stall_min_decrease, gd_range::stall_min_decrease,
               "stalled below this relative decrease of f over the window", "0.02"),
       // The large-swarm keys only when set, so that the defaults' text (paper.ini) is unchanged.
       K::integer("gd", "escape_half_grid", &GdOptions::escape_half_grid, gd_range::escape_half_grid,
                  "escape grid: (2 h + 1)^2 lateral points", "6")
           .unless_default(),
-      K::integer("gd", "escape_uavs", &GdOptions::escape_uavs, gd_range::escape_uavs, "UAVs that search at each stall", "2")
+      K::integer("gd", "escape_uavs", &GdOptions::escape_uavs, gd_range::escape_uavs, "UAVs that search at each stall",
+                 "2")
           .unless_default(),
       K::real("gd", "depth_step_gain", &GdOptions::depth_step_gain, gd_range::depth_step_gain,
               "multiplies the step's component along the link", "4")
@@ -120,10 +133,12 @@ std::vector<common::Key<BfOptions>> bf_keys() {
   return {
       K::real("bf", "step", &BfOptions::step, bf_range::step, "initial probe step [m]", "0.2"),
       K::real("bf", "decay", &BfOptions::decay, bf_range::decay, "step decay per iteration", "0.99"),
-      K::real("bf", "contraction", &BfOptions::contraction, bf_range::contraction, "step factor after a failed compass round", "0.25"),
+      K::real("bf", "contraction", &BfOptions::contraction, bf_range::contraction,
+              "step factor after a failed compass round", "0.25"),
       K::real("bf", "min_step_m", &BfOptions::min_step_m, bf_range::min_step_m, "smallest step [m]", "0.02"),
       K::boolean("bf", "escape", &BfOptions::escape, "lateral search of a stalled UAV (stall.h)", "false"),
-      K::integer("bf", "stall_window", &BfOptions::stall_window, bf_range::stall_window, "stall window [iterations]", "10"),
+      K::integer("bf", "stall_window", &BfOptions::stall_window, bf_range::stall_window, "stall window [iterations]",
+                 "10"),
       K::real("bf", "stall_min_decrease", &BfOptions::stall_min_decrease, bf_range::stall_min_decrease,
               "stalled below this relative decrease of f over the window", "0.02"),
       choice("bf", "probe_actuation", &BfOptions::probe_actuation, &probe_actuation_from_string,
@@ -149,19 +164,23 @@ std::vector<common::Key<UraOptions>> ura_keys() {
 std::vector<common::Key<CapOptions>> cap_keys() {
   using K = common::Key<CapOptions>;
   return {
-      K::real("cap", "step", &CapOptions::step, cap_range::step, "initial step per unit capacity gradient [m^2 per bit/s/Hz]",
-              "0.5")
+      K::real("cap", "step", &CapOptions::step, cap_range::step,
+              "initial step per unit capacity gradient [m^2 per bit/s/Hz]", "0.5")
           .unless_default(),
-      K::real("cap", "decay", &CapOptions::decay, cap_range::decay, "step decay per iteration", "0.99").unless_default(),
-      K::real("cap", "max_move_m", &CapOptions::max_move_m, cap_range::max_move_m, "largest move per iteration [m]", "0.25")
+      K::real("cap", "decay", &CapOptions::decay, cap_range::decay, "step decay per iteration", "0.99")
+          .unless_default(),
+      K::real("cap", "max_move_m", &CapOptions::max_move_m, cap_range::max_move_m, "largest move per iteration [m]",
+              "0.25")
           .unless_default(),
       K::boolean("cap", "backtracking", &CapOptions::backtracking,
                  "halve a step that decreases the capacity (the UAV stays if none increases it)", "false")
           .unless_default(),
-      K::integer("cap", "max_halvings", &CapOptions::max_halvings, cap_range::max_halvings, "halvings per backtracking", "3")
+      K::integer("cap", "max_halvings", &CapOptions::max_halvings, cap_range::max_halvings, "halvings per backtracking",
+                 "3")
           .unless_default(),
       choice("cap", "power", &CapOptions::power, &cap_power_from_string, "equal | waterfill",
-             "the capacity climbed: equal power per BS antenna, or water-filling over the channel's modes", "waterfill"),
+             "the capacity climbed: equal power per BS antenna, or water-filling over the channel's modes",
+             "waterfill"),
   };
 }
 
@@ -184,8 +203,8 @@ std::vector<common::Key<ChannelSettings>> channel_keys() {
   return {
       db_key("rician_k_db", &ChannelSettings::rician_k_db, kMinRicianK_db, kMaxRicianK_db,
              "Rician K-factor: LoS over scattered power (docs/model.md); inf = pure LoS", "10"),
-      K::integer("channel", "coherence_iterations", &ChannelSettings::coherence_iterations, 1,
-                 kMaxCoherenceIterations, "iterations per draw of the scattered component (block fading)", "5")
+      K::integer("channel", "coherence_iterations", &ChannelSettings::coherence_iterations, 1, kMaxCoherenceIterations,
+                 "iterations per draw of the scattered component (block fading)", "5")
           .unless_default(),
       db_key("csi_snr_db", &ChannelSettings::csi_snr_db, kMinCsiSnr_db, kMaxCsiSnr_db,
              "SNR of the measured channel per entry (pilot estimate); inf = perfect CSI", "20"),

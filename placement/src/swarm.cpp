@@ -38,8 +38,7 @@ double ErrorModel::axis_sigma(double sigma_m) const {
   return sigma_convention == SigmaConvention::kRms3d ? sigma_m / std::sqrt(3.0) : sigma_m;
 }
 
-Swarm::Swarm(const ChannelModel& model, const Eigen::Matrix3Xd& start_m, const ErrorModel& errors,
-             std::uint64_t seed)
+Swarm::Swarm(const ChannelModel& model, const Eigen::Matrix3Xd& start_m, const ErrorModel& errors, std::uint64_t seed)
     : q_m_(start_m),
       channel_(model, start_m),
       errors_(errors),
@@ -95,8 +94,8 @@ Eigen::Vector3d Swarm::move(int m, const Eigen::Vector3d& r_m, MotionKind kind, 
     if (!fault_) {
       const std::string what = !r_m.allFinite()
                                    ? "commanded move is non-finite (r = " + format_vector(r_m) + ")"
-                                   : "move leaves a non-finite position (q = " +
-                                         format_vector(q_m_.col(m)) + ", r = " + format_vector(r_m) + ")";
+                                   : "move leaves a non-finite position (q = " + format_vector(q_m_.col(m)) +
+                                         ", r = " + format_vector(r_m) + ")";
       fault_ = SwarmFault{m, "UAV " + std::to_string(m) + ": " + what};
     }
     return Eigen::Vector3d::Zero();

@@ -50,7 +50,8 @@ SwarmChannel::SwarmChannel(const ChannelModel& model, const Eigen::Matrix3Xd& q_
 }
 
 kernels::GramPlanes SwarmChannel::gram_planes() const {
-  if (side_ == GramSide::kUavs) throw std::logic_error("SwarmChannel::gram_planes: the swarm keeps the UAVs' Gram matrix");
+  if (side_ == GramSide::kUavs)
+    throw std::logic_error("SwarmChannel::gram_planes: the swarm keeps the UAVs' Gram matrix");
   return {model_->num_antennas(), ld_, gram_re_.data(), gram_im_.data()};
 }
 
@@ -154,7 +155,8 @@ void SwarmChannel::replace_row(int m, const double* re, const double* im) {
   double* old_re = row_re_.data() + static_cast<std::ptrdiff_t>(m) * ld_;
   double* old_im = row_im_.data() + static_cast<std::ptrdiff_t>(m) * ld_;
   if (side_ == GramSide::kBsAntennas) {
-    model_->kernels().gram_update(gram_re_.data(), gram_im_.data(), model_->num_antennas(), ld_, re, im, old_re, old_im);
+    model_->kernels().gram_update(gram_re_.data(), gram_im_.data(), model_->num_antennas(), ld_, re, im, old_re,
+                                  old_im);
   }
   for (int k = 0; k < ld_; ++k) {
     old_re[k] = re[k];
@@ -179,7 +181,7 @@ void SwarmChannel::refresh() {
   const int nt = model_->num_antennas();
   for (int k = 0; k < nt; ++k) {
     for (int l = 0; l < nt; ++l) {
-      const std::complex<double> g = l == k ? std::complex<double>(G(k, k).real(), 0.0)
+      const std::complex<double> g = l == k  ? std::complex<double>(G(k, k).real(), 0.0)
                                      : l > k ? G(l, k)
                                              : std::conj(G(k, l));
       gram_re_[static_cast<std::size_t>(k) * ld_ + l] = g.real();
@@ -235,8 +237,8 @@ double UavObjective::objective_at(const Eigen::Vector3d& q_m) const {
   if (uav_side()) return uav_side_objective_at(q_m);
   const ChannelModel& model = swarm_->model();
   const double q[3] = {q_m.x(), q_m.y(), q_m.z()};
-  return model.kernels().objective_at(model.geometry(), swarm_->gram_planes(), swarm_->row_re(m_),
-                                      swarm_->row_im(m_), leave_one_out_energy(), q);
+  return model.kernels().objective_at(model.geometry(), swarm_->gram_planes(), swarm_->row_re(m_), swarm_->row_im(m_),
+                                      leave_one_out_energy(), q);
 }
 
 Eigen::Vector3d UavObjective::gradient_at(const Eigen::Vector3d& q_m, double* objective) const {
@@ -260,8 +262,9 @@ void UavObjective::objectives_at(const Eigen::Ref<const Eigen::Matrix3Xd>& q_m, 
                                  double* f) const {
   check_current();
   if (energy_ == Energy::kWithoutOthers) {
-    throw std::logic_error("UavObjective::objectives_at: the lanes kernel gives the whole f; build the view with "
-                           "Energy::kTotal");
+    throw std::logic_error(
+        "UavObjective::objectives_at: the lanes kernel gives the whole f; build the view with "
+        "Energy::kTotal");
   }
   constexpr int kLanes = kernels::kLanes;
   const int first = with_current_row ? 1 : 0;

@@ -35,9 +35,12 @@ std::string to_string(UraDepth depth) { return depth == UraDepth::kOwn ? "own" :
 
 std::string to_string(UraRetry retry) {
   switch (retry) {
-    case UraRetry::kEveryIteration: return "every_iteration";
-    case UraRetry::kOnce: return "once";
-    case UraRetry::kAverage: return "average";
+    case UraRetry::kEveryIteration:
+      return "every_iteration";
+    case UraRetry::kOnce:
+      return "once";
+    case UraRetry::kAverage:
+      return "average";
   }
   return "every_iteration";
 }
@@ -57,8 +60,8 @@ UraRetry ura_retry_from_string(const std::string& name) {
 
 void validate(const UraOptions& o) {
   if (o.spacing_multiple < 1 || o.spacing_multiple > 64) {
-    throw common::FieldError("spacing_multiple", "ura.spacing_multiple = " + std::to_string(o.spacing_multiple) +
-                                                     ": must be in [1, 64]");
+    throw common::FieldError("spacing_multiple",
+                             "ura.spacing_multiple = " + std::to_string(o.spacing_multiple) + ": must be in [1, 64]");
   }
 }
 
@@ -96,16 +99,18 @@ UraPlanner::UraPlanner(const Scenario& scenario, UraVariant variant, const UraOp
   validate(options_, scenario);
   if (scenario.num_uavs > scenario.num_bs_antennas()) {
     throw std::invalid_argument("ura: scenario.num_uavs = " + std::to_string(scenario.num_uavs) +
-                                " must be at most bs_rows * bs_cols = " +
-                                std::to_string(scenario.num_bs_antennas()));
+                                " must be at most bs_rows * bs_cols = " + std::to_string(scenario.num_bs_antennas()));
   }
 }
 
 std::string UraPlanner::name() const {
   switch (variant_) {
-    case UraVariant::kRigid: return "ura";
-    case UraVariant::kLattice: return "ura_lattice";
-    case UraVariant::kLatticeExact: return "ura_lattice_exact";
+    case UraVariant::kRigid:
+      return "ura";
+    case UraVariant::kLattice:
+      return "ura_lattice";
+    case UraVariant::kLatticeExact:
+      return "ura_lattice_exact";
   }
   return "ura";
 }

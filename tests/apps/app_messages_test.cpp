@@ -140,7 +140,8 @@ TEST(AppSettings, UraLatticeOnAnotherSwarm_NamesUraLattice) {
   o.out_dir = temp("lattice").string();
   o.overrides = {"scenario.num_uavs=20", "experiment.algorithms=gd, ura_lattice"};
   EXPECT_EQ(test_support::run_experiment(o, &err), 2);
-  EXPECT_NE(err.find("ura_lattice needs scenario.num_uavs <= bs_rows * bs_cols (16), got 20"), std::string::npos) << err;
+  EXPECT_NE(err.find("ura_lattice needs scenario.num_uavs <= bs_rows * bs_cols (16), got 20"), std::string::npos)
+      << err;
 }
 
 }  // namespace

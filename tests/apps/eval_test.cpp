@@ -6,7 +6,6 @@
 
 #include "losmimo/apps/eval_app.h"
 
-
 namespace {
 const std::string kExamples = std::string(LOSMIMO_SOURCE_DIR) + "/datasets/examples/";
 
@@ -97,7 +96,8 @@ TEST(LosmimoEval, ChannelConditions_ExitTwoNamingTheKey) {
   o.overrides = {"channel.rician_k_db=10"};
   std::ostringstream out, err;
   EXPECT_EQ(losmimo::apps::run_eval_app(o, out, err), 2);
-  EXPECT_NE(err.str().find("[channel] rician_k_db: 10 is not supported by losmimo-eval"), std::string::npos) << err.str();
+  EXPECT_NE(err.str().find("[channel] rician_k_db: 10 is not supported by losmimo-eval"), std::string::npos)
+      << err.str();
 }
 
 TEST(LosmimoEval, BadConfigValue_ExitTwo) {

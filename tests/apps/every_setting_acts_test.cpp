@@ -137,66 +137,118 @@ const std::vector<Regime> kRegimes = {
     {"GD steps that overshoot", {{"gd.step", "5"}}},
     {"GD steps that overshoot more", {{"gd.step", "50"}, {"placement.target_icn", "1"}}},
     {"capacity steps that hit the move cap and overshoot", {{"cap.step", "1000"}, {"placement.target_icn", "1"}}},
-    {"capacity steps far beyond the move cap", {{"cap.step", "1e6"}, {"cap.max_move_m", "5"}, {"placement.target_icn", "1"}}},
+    {"capacity steps far beyond the move cap",
+     {{"cap.step", "1e6"}, {"cap.max_move_m", "5"}, {"placement.target_icn", "1"}}},
     {"BF at its smallest step", {{"placement.target_icn", "1"}, {"bf.step", "0.015"}}},
     {"a stall test at every iteration",
      {{"placement.target_icn", "1"}, {"gd.stall_window", "1"}, {"bf.stall_window", "1"}}},
     {"a long run with a stall test every two iterations",
-     {{"placement.target_icn", "1"}, {"placement.max_iterations", "200"}, {"gd.stall_window", "2"}, {"bf.stall_window", "2"}}},
+     {{"placement.target_icn", "1"},
+      {"placement.max_iterations", "200"},
+      {"gd.stall_window", "2"},
+      {"bf.stall_window", "2"}}},
     {"a long run with a stall test at every iteration",
-     {{"placement.target_icn", "1"}, {"placement.max_iterations", "200"}, {"gd.stall_window", "1"}, {"bf.stall_window", "1"}}},
+     {{"placement.target_icn", "1"},
+      {"placement.max_iterations", "200"},
+      {"gd.stall_window", "1"},
+      {"bf.stall_window", "1"}}},
 };
 
 const std::vector<Condition> kConditions = {
     {"*", "ura.retry", {{"placement.target_icn", "0.99"}}, "URA moves again only while the target ICN is not reached"},
-    {"*", "channel.coherence_iterations", {{"channel.rician_k_db", "10"}}, "block fading needs a finite K-factor", true},
+    {"*",
+     "channel.coherence_iterations",
+     {{"channel.rician_k_db", "10"}},
+     "block fading needs a finite K-factor",
+     true},
     {"*", "channel.fading_eval_draws", {{"channel.rician_k_db", "10"}}, "scatter draws need a finite K-factor", true},
     // Readings are measured at the paper's values (sweep points such as 0), on at most the run's trials.
-    {experiment::kSweepSigmaLoc, "experiment.reading_trials",
-     {{"experiment.readings", "r: gd.escape=false"}, {"experiment.trials", "21"}, {"experiment.sigma_loc_values_m", "0"}},
-     "the trials of the readings, when the run has more", true},
-    {experiment::kSweepSigmaAct, "experiment.reading_trials",
-     {{"experiment.readings", "r: gd.escape=false"}, {"experiment.trials", "21"}, {"experiment.sigma_act_values_m", "0"}},
-     "the trials of the readings, when the run has more", true},
-    {experiment::kSweepSigmaLoc, "experiment.readings", {{"experiment.sigma_loc_values_m", "0"}},
+    {experiment::kSweepSigmaLoc,
+     "experiment.reading_trials",
+     {{"experiment.readings", "r: gd.escape=false"},
+      {"experiment.trials", "21"},
+      {"experiment.sigma_loc_values_m", "0"}},
+     "the trials of the readings, when the run has more",
+     true},
+    {experiment::kSweepSigmaAct,
+     "experiment.reading_trials",
+     {{"experiment.readings", "r: gd.escape=false"},
+      {"experiment.trials", "21"},
+      {"experiment.sigma_act_values_m", "0"}},
+     "the trials of the readings, when the run has more",
+     true},
+    {experiment::kSweepSigmaLoc,
+     "experiment.readings",
+     {{"experiment.sigma_loc_values_m", "0"}},
      "measured at the paper's values"},
-    {experiment::kSweepSigmaAct, "experiment.readings", {{"experiment.sigma_act_values_m", "0"}},
+    {experiment::kSweepSigmaAct,
+     "experiment.readings",
+     {{"experiment.sigma_act_values_m", "0"}},
      "measured at the paper's values"},
     // ura_ekf needs as many UAVs as BS antennas: the array and the swarm vary without it.
-    {coevaluation::kSweepBeaconNoise, "scenario.bs_rows", {{"coevaluation.algorithms", "gd_gauss, gd_ekf, gd_pf, bf"}},
+    {coevaluation::kSweepBeaconNoise,
+     "scenario.bs_rows",
+     {{"coevaluation.algorithms", "gd_gauss, gd_ekf, gd_pf, bf"}},
      "ura_ekf needs num_uavs = bs_rows * bs_cols"},
-    {coevaluation::kSweepBeaconNoise, "scenario.bs_cols", {{"coevaluation.algorithms", "gd_gauss, gd_ekf, gd_pf, bf"}},
+    {coevaluation::kSweepBeaconNoise,
+     "scenario.bs_cols",
+     {{"coevaluation.algorithms", "gd_gauss, gd_ekf, gd_pf, bf"}},
      "ura_ekf needs num_uavs = bs_rows * bs_cols"},
-    {coevaluation::kSweepBeaconNoise, "scenario.num_uavs", {{"coevaluation.algorithms", "gd_gauss, gd_ekf, gd_pf, bf"}},
+    {coevaluation::kSweepBeaconNoise,
+     "scenario.num_uavs",
+     {{"coevaluation.algorithms", "gd_gauss, gd_ekf, gd_pf, bf"}},
      "ura_ekf needs num_uavs = bs_rows * bs_cols"},
     // centralized needs a target ICN below 1, which the regimes set: without it.
-    {coevaluation::kSweepBeaconNoise, "gd.stall_min_decrease", {{"coevaluation.algorithms", "gd_gauss, gd_ekf, gd_pf, bf"}},
+    {coevaluation::kSweepBeaconNoise,
+     "gd.stall_min_decrease",
+     {{"coevaluation.algorithms", "gd_gauss, gd_ekf, gd_pf, bf"}},
      "the regimes' target ICN 1 is refused with centralized"},
-    {coevaluation::kSweepBeaconNoise, "bf.min_step_m", {{"coevaluation.algorithms", "gd_gauss, gd_ekf, gd_pf, bf"}},
+    {coevaluation::kSweepBeaconNoise,
+     "bf.min_step_m",
+     {{"coevaluation.algorithms", "gd_gauss, gd_ekf, gd_pf, bf"}},
      "the regimes' target ICN 1 is refused with centralized"},
-    {coevaluation::kSweepBeaconNoise, "bf.stall_min_decrease", {{"coevaluation.algorithms", "gd_gauss, gd_ekf, gd_pf, bf"}},
+    {coevaluation::kSweepBeaconNoise,
+     "bf.stall_min_decrease",
+     {{"coevaluation.algorithms", "gd_gauss, gd_ekf, gd_pf, bf"}},
      "the regimes' target ICN 1 is refused with centralized"},
     // The closed loop's filter and refinement options act with that filter or refinement.
-    {coevaluation::kSweepBeaconOutage, "closed_loop.num_particles", {{"coevaluation.outage_algorithms", "gd_pf"}},
-     "the particle filter's size", true},
-    {coevaluation::kSweepBeaconOutage, "closed_loop.window_epochs",
-     {{"coevaluation.outage_algorithms", "gd_ekf_ceres"}}, "the refinement's window", true},
-    {coevaluation::kSweepBeaconOutage, "closed_loop.use_csi", {{"coevaluation.outage_algorithms", "gd_ekf_ceres"}},
-     "the refinement's CSI rows", true},
+    {coevaluation::kSweepBeaconOutage,
+     "closed_loop.num_particles",
+     {{"coevaluation.outage_algorithms", "gd_pf"}},
+     "the particle filter's size",
+     true},
+    {coevaluation::kSweepBeaconOutage,
+     "closed_loop.window_epochs",
+     {{"coevaluation.outage_algorithms", "gd_ekf_ceres"}},
+     "the refinement's window",
+     true},
+    {coevaluation::kSweepBeaconOutage,
+     "closed_loop.use_csi",
+     {{"coevaluation.outage_algorithms", "gd_ekf_ceres"}},
+     "the refinement's CSI rows",
+     true},
     {"record", "closed_loop.num_particles", {{"closed_loop.filter", "pf"}}, "the particle filter's size", true},
     {"record", "closed_loop.window_epochs", {{"closed_loop.refine", "true"}}, "the refinement's window", true},
     {"record", "closed_loop.use_csi", {{"closed_loop.refine", "true"}}, "the refinement's CSI rows", true},
     {"record", "closed_loop.fallback", {{"closed_loop.outages", "0:1:30"}}, "BF for a UAV whose belief degrades"},
-    {"record", "closed_loop.degraded_after_epochs", {{"closed_loop.outages", "0:1:30"}},
+    {"record",
+     "closed_loop.degraded_after_epochs",
+     {{"closed_loop.outages", "0:1:30"}},
      "a belief degrades without beacons"},
-    {"record", "closed_loop.filter_max_beacon_range_m", {{"scenario.cube_center_x_m", "3000"}},
+    {"record",
+     "closed_loop.filter_max_beacon_range_m",
+     {{"scenario.cube_center_x_m", "3000"}},
      "beacons beyond the plausible range"},
     {"record", "bf.step", {{"closed_loop.outages", "0:1:30"}}, "the BF fallback of a degraded belief"},
     {"record", "bf.decay", {{"closed_loop.outages", "0:1:30"}}, "the BF fallback of a degraded belief"},
     {"record", "bf.contraction", {{"closed_loop.outages", "0:1:30"}}, "the BF fallback of a degraded belief"},
-    {"record", "bf.min_step_m", {{"closed_loop.outages", "0:1:30"}, {"bf.step", "0.015"}},
+    {"record",
+     "bf.min_step_m",
+     {{"closed_loop.outages", "0:1:30"}, {"bf.step", "0.015"}},
      "the BF fallback of a degraded belief, at its smallest step"},
-    {"record", "closed_loop.unresponsive_after_iterations", {{"closed_loop.faults", "unresponsive:0:2"}},
+    {"record",
+     "closed_loop.unresponsive_after_iterations",
+     {{"closed_loop.faults", "unresponsive:0:2"}},
      "a UAV silent by an injected fault"},
 };
 
@@ -270,8 +322,9 @@ Judgement judge(const Context& c, const Assignments& base, const Outcome& before
   const std::string named = "[" + k.section + "] " + k.key;
   const std::string what = k.name + "=" + value;
   const auto exemption = exempt.find(k.name);
-  const bool exempt_here = exemption != exempt.end() &&
-                           (exemption->second.app == c.name || (exemption->second.app == "experiment" && is_experiment(c.name)));
+  const bool exempt_here =
+      exemption != exempt.end() &&
+      (exemption->second.app == c.name || (exemption->second.app == "experiment" && is_experiment(c.name)));
   if (o.code == 2) {
     if (exempt_here) return {Verdict::kFailed, what + ": " + exemption->second.reason + ", but refused: " + o.err};
     if (o.err.find(named) != std::string::npos) return {Verdict::kRefused, o.err};
@@ -309,8 +362,8 @@ Context experiment_context(const std::string& sweep, const Assignments& tiny, co
   // Common to every sweep: one trial, one thread, four UAVs, at most 40 iterations (GD stalls,
   // escapes and converges within them; so does BF, with bf.stall_window = 3 where BF runs), no
   // figures.
-  Assignments all = {{"experiment.sweeps", sweep},   {"experiment.trials", "1"},  {"experiment.threads", "1"},
-                     {"experiment.plots", "false"},  {"scenario.num_uavs", "4"},  {"placement.max_iterations", "40"},
+  Assignments all = {{"experiment.sweeps", sweep},  {"experiment.trials", "1"}, {"experiment.threads", "1"},
+                     {"experiment.plots", "false"}, {"scenario.num_uavs", "4"}, {"placement.max_iterations", "40"},
                      {"gd.stall_window", "3"}};
   all.insert(all.end(), tiny.begin(), tiny.end());
   Context c;
@@ -375,10 +428,12 @@ std::string mission_records(const std::string& path) {
       s << u.reported;
       if (u.truth_m) s << " truth " << vector_text(*u.truth_m);
       if (u.displacement_m) s << " dr " << vector_text(*u.displacement_m);
-      if (u.beacon) s << " beacon " << u.beacon->range_m << " " << u.beacon->azimuth_rad << " " << u.beacon->elevation_rad;
+      if (u.beacon)
+        s << " beacon " << u.beacon->range_m << " " << u.beacon->azimuth_rad << " " << u.beacon->elevation_rad;
       if (u.csi) s << " csi " << u.csi->y.transpose();
       for (const auto* b : {&u.filter_belief, &u.refined_belief}) {
-        if (*b) s << " belief " << vector_text((*b)->mean_m) << " " << vector_text((*b)->cov_m2) << " " << (*b)->degraded;
+        if (*b)
+          s << " belief " << vector_text((*b)->mean_m) << " " << vector_text((*b)->cov_m2) << " " << (*b)->degraded;
       }
       s << "\n";
     }
@@ -391,7 +446,9 @@ std::string mission_records(const std::string& path) {
 Context record_context() {
   Context c;
   c.name = "record";
-  c.tiny = {{"scenario.num_uavs", "4"}, {"placement.max_iterations", "40"}, {"errors.sigma_act_m", "0.05"},
+  c.tiny = {{"scenario.num_uavs", "4"},
+            {"placement.max_iterations", "40"},
+            {"errors.sigma_act_m", "0.05"},
             {"gd.stall_window", "3"}};
   c.run = [](const std::vector<std::string>& overrides) {
     apps::RecordAppOptions o;
@@ -416,37 +473,44 @@ const std::vector<Context>& contexts() {
   // Each sweep's one point; nonzero errors where the sweep does not set them, so that the keys
   // that shape the errors act.
   static const std::vector<Context> all = {
-      experiment_context(experiment::kSweepSigmaLoc,
-                         {{"experiment.sigma_loc_values_m", "0.05"}, {"errors.sigma_act_m", "0.05"}, {"bf.stall_window", "3"}}),
+      experiment_context(
+          experiment::kSweepSigmaLoc,
+          {{"experiment.sigma_loc_values_m", "0.05"}, {"errors.sigma_act_m", "0.05"}, {"bf.stall_window", "3"}}),
       // Only GD: the [bf] and [ura] keys are refused.
-      experiment_context(experiment::kSweepSigmaLoc,
-                         {{"experiment.sigma_loc_values_m", "0.05"}, {"errors.sigma_act_m", "0.05"},
-                          {"experiment.algorithms", "gd"}},
-                         "sigma_loc_m_gd_only"),
+      experiment_context(
+          experiment::kSweepSigmaLoc,
+          {{"experiment.sigma_loc_values_m", "0.05"}, {"errors.sigma_act_m", "0.05"}, {"experiment.algorithms", "gd"}},
+          "sigma_loc_m_gd_only"),
       // GD and the capacity planner: the [cap] keys act, [bf] and [ura]'s are refused.
       experiment_context(experiment::kSweepSigmaLoc,
-                         {{"experiment.sigma_loc_values_m", "0.05"}, {"errors.sigma_act_m", "0.05"},
+                         {{"experiment.sigma_loc_values_m", "0.05"},
+                          {"errors.sigma_act_m", "0.05"},
                           {"experiment.algorithms", "gd, cap"}},
                          "sigma_loc_m_gd_and_cap"),
-      experiment_context(experiment::kSweepSigmaAct,
-                         {{"experiment.sigma_act_values_m", "0.1"}, {"errors.sigma_loc_m", "0.05"}, {"bf.stall_window", "3"}}),
-      experiment_context(experiment::kSweepRicianK, {{"experiment.rician_k_db_values", "30"}, {"bf.stall_window", "3"},
-                                                      {"errors.sigma_loc_m", "0.05"},
-                                                      {"errors.sigma_act_m", "0.05"}}),
-      experiment_context(experiment::kSweepCsiSnr, {{"experiment.csi_snr_db_values", "40"}, {"bf.stall_window", "3"},
+      experiment_context(
+          experiment::kSweepSigmaAct,
+          {{"experiment.sigma_act_values_m", "0.1"}, {"errors.sigma_loc_m", "0.05"}, {"bf.stall_window", "3"}}),
+      experiment_context(experiment::kSweepRicianK, {{"experiment.rician_k_db_values", "30"},
+                                                     {"bf.stall_window", "3"},
                                                      {"errors.sigma_loc_m", "0.05"},
                                                      {"errors.sigma_act_m", "0.05"}}),
-      experiment_context(experiment::kSweepBsAntennas, {{"experiment.bs_antennas_values", "16"}, {"bf.stall_window", "3"},
-                                                         {"errors.sigma_loc_m", "0.05"},
-                                                         {"errors.sigma_act_m", "0.05"}}),
+      experiment_context(experiment::kSweepCsiSnr, {{"experiment.csi_snr_db_values", "40"},
+                                                    {"bf.stall_window", "3"},
+                                                    {"errors.sigma_loc_m", "0.05"},
+                                                    {"errors.sigma_act_m", "0.05"}}),
+      experiment_context(experiment::kSweepBsAntennas, {{"experiment.bs_antennas_values", "16"},
+                                                        {"bf.stall_window", "3"},
+                                                        {"errors.sigma_loc_m", "0.05"},
+                                                        {"errors.sigma_act_m", "0.05"}}),
       // ura_ekf needs as many UAVs as BS antennas; a 1 m array spacing makes the UAVs' ideal
       // spacing 5 m (lambda x / (n d)), which they reach within the tiny runs.
-      experiment_context(coevaluation::kSweepBeaconNoise, {{"scenario.bs_rows", "2"}, {"bf.stall_window", "3"},
-                                                            {"scenario.bs_cols", "2"},
-                                                            {"scenario.bs_spacing_m", "1"},
-                                                            {"coevaluation.beacon_noise_values_m", "0.05"},
-                                                            {"errors.sigma_act_m", "0.05"},
-                                                            {"closed_loop.num_particles", "50"}}),
+      experiment_context(coevaluation::kSweepBeaconNoise, {{"scenario.bs_rows", "2"},
+                                                           {"bf.stall_window", "3"},
+                                                           {"scenario.bs_cols", "2"},
+                                                           {"scenario.bs_spacing_m", "1"},
+                                                           {"coevaluation.beacon_noise_values_m", "0.05"},
+                                                           {"errors.sigma_act_m", "0.05"},
+                                                           {"closed_loop.num_particles", "50"}}),
       // Without gd_pf, gd_ekf_ceres and ura_ekf: their keys are refused. Without centralized too,
       // so that the regimes' target ICN 1 is accepted.
       experiment_context(coevaluation::kSweepBeaconNoise,
@@ -459,8 +523,8 @@ const std::vector<Context>& contexts() {
                           {"errors.sigma_act_m", "0.05"}},
                          "beacon_noise_m_without_pf_ceres_ura"),
       experiment_context(coevaluation::kSweepBeaconOutage, {{"coevaluation.outage_values", "1"},
-                                                             {"coevaluation.outage_first_epoch", "2"},
-                                                             {"errors.sigma_act_m", "0.05"}}),
+                                                            {"coevaluation.outage_first_epoch", "2"},
+                                                            {"errors.sigma_act_m", "0.05"}}),
       eval_context(),
       record_context(),
   };
@@ -531,8 +595,8 @@ TEST_P(EverySettingActs, EachKey_ChangesTheResultsOrIsRefused) {
         break;
     }
   }
-  std::string summary = c.name + ": " + std::to_string(acts.size()) + " keys act, " +
-                        std::to_string(refused.size()) + " refused\n";
+  std::string summary =
+      c.name + ": " + std::to_string(acts.size()) + " keys act, " + std::to_string(refused.size()) + " refused\n";
   for (const std::string& r : refused) summary += "  refused " + r;
   std::cout << summary;
   fs::remove_all(scratch(c.name));
@@ -559,8 +623,9 @@ const common::KeyTable<FakeSettings>& fake_keys() {
   using K = common::Key<FakeSettings>;
   static const common::KeyTable<FakeSettings> table({
       K::real("fake", "gain", &FakeSettings::gain, common::Range::at_least(0.0), "scales the result", "2"),
-      K::real("fake", "noop", [](const FakeSettings&) { return 0.0; }, [](FakeSettings&, double) {},
-              common::Range::at_least(0.0), "does nothing", "3"),
+      K::real(
+          "fake", "noop", [](const FakeSettings&) { return 0.0; }, [](FakeSettings&, double) {},
+          common::Range::at_least(0.0), "does nothing", "3"),
       K::real("fake", "refused", &FakeSettings::refused, common::Range::at_least(0.0), "refused when set", "1"),
       K::real("fake", "mute", &FakeSettings::mute, common::Range::at_least(0.0), "refused namelessly", "1"),
   });
@@ -639,7 +704,8 @@ TEST(EverySettingActsWalker, ConfigFile_MayHoldKeysTheAppDoesNotUse) {
   o.overrides = {"gd.step=0.2"};
   std::ostringstream err2;
   EXPECT_EQ(apps::run_eval_app(o, out, err2), 2);
-  EXPECT_NE(err2.str().find("--set: [gd] step: not used by losmimo-eval: it evaluates given positions"), std::string::npos)
+  EXPECT_NE(err2.str().find("--set: [gd] step: not used by losmimo-eval: it evaluates given positions"),
+            std::string::npos)
       << err2.str();
   fs::remove_all(scratch("config_file"));
 }

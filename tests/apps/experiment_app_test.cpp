@@ -48,8 +48,7 @@ losmimo::apps::ExperimentOptions tiny(const std::string& out, int threads) {
   o.out_dir = out;
   o.threads = threads;
   o.overrides = {"experiment.trials=" + std::to_string(kTrials), "experiment.sigma_loc_values_m=0, 0.1",
-                 "experiment.sigma_act_values_m=0, 0.04", "experiment.plots=false",
-                 "placement.max_iterations=150"};
+                 "experiment.sigma_act_values_m=0, 0.04", "experiment.plots=false", "placement.max_iterations=150"};
   return o;
 }
 
@@ -176,8 +175,12 @@ TEST(ExperimentAlgorithms, UraLatticeExact_IsSelectableAndConvergesWithoutErrors
   losmimo::apps::ExperimentOptions o;
   o.out_dir = dir.string();
   o.threads = 1;
-  o.overrides = {"experiment.trials=2", "experiment.sweeps=sigma_loc_m", "experiment.sigma_loc_values_m=0",
-                 "experiment.algorithms=ura_lattice_exact", "experiment.plots=false", "experiment.fig1_trials=0"};
+  o.overrides = {"experiment.trials=2",
+                 "experiment.sweeps=sigma_loc_m",
+                 "experiment.sigma_loc_values_m=0",
+                 "experiment.algorithms=ura_lattice_exact",
+                 "experiment.plots=false",
+                 "experiment.fig1_trials=0"};
   ASSERT_EQ(losmimo::test_support::run_experiment(o), 0);
   const auto rows = read_csv(dir / "trials.csv");
   ASSERT_EQ(rows.size(), 3u);
@@ -199,11 +202,16 @@ TEST(ExperimentAlgorithms, Cap_RunsInTheSweepsAndReachesTheOrthogonalBound) {
   losmimo::apps::ExperimentOptions o;
   o.out_dir = dir.string();
   o.threads = 1;
-  o.overrides = {"experiment.trials=2", "experiment.sweeps=sigma_loc_m, bs_antennas", "experiment.sigma_loc_values_m=0",
-                 "experiment.bs_antennas_values=64", "experiment.algorithms=cap", "experiment.plots=false",
+  o.overrides = {"experiment.trials=2",
+                 "experiment.sweeps=sigma_loc_m, bs_antennas",
+                 "experiment.sigma_loc_values_m=0",
+                 "experiment.bs_antennas_values=64",
+                 "experiment.algorithms=cap",
+                 "experiment.plots=false",
                  "experiment.fig1_trials=0"};
   std::ostringstream out, err;
-  ASSERT_EQ(losmimo::apps::run_experiment_app(o, losmimo::experiment::channel_sweep_extensions(), out, err), 0) << err.str();
+  ASSERT_EQ(losmimo::apps::run_experiment_app(o, losmimo::experiment::channel_sweep_extensions(), out, err), 0)
+      << err.str();
   const auto rows = read_csv(dir / "trials.csv");
   ASSERT_EQ(rows.size(), 5u);
   const auto column = [&](const std::string& name) {
@@ -211,7 +219,8 @@ TEST(ExperimentAlgorithms, Cap_RunsInTheSweepsAndReachesTheOrthogonalBound) {
   };
   for (std::size_t i = 1; i < rows.size(); ++i) {
     const int nt = rows[i][column("sweep")] == "bs_antennas" ? 64 : 16;
-    const double bound = losmimo::placement::orthogonal_capacity_bps_hz(16, nt, 0.1, losmimo::placement::CapPower::kEqual);
+    const double bound =
+        losmimo::placement::orthogonal_capacity_bps_hz(16, nt, 0.1, losmimo::placement::CapPower::kEqual);
     // THEN: named in trials.csv, converged, and its sum rate within 1 % of the bound
     EXPECT_EQ(rows[i][column("algorithm")], "cap");
     EXPECT_EQ(rows[i][column("converged")], "1");

@@ -23,13 +23,25 @@ namespace {
 // 8 points x 2 trials x 2 algorithms, one thread: points finish one by one, ~0.2 s a run.
 std::vector<std::string> args(const std::string& option, const fs::path& dir, const std::string& seed,
                               const std::vector<std::string>& more = {}) {
-  std::vector<std::string> a = {LOSMIMO_EXPERIMENT_APP, option, dir.string(), "--threads", "1", "--trials", "2",
-                                "--set", "experiment.sweeps=sigma_loc_m, sigma_act_m",
-                                "--set", "experiment.sigma_loc_values_m=0, 0.04, 0.08, 0.12, 0.16",
-                                "--set", "experiment.sigma_act_values_m=0, 0.06, 0.12",
-                                "--set", "experiment.algorithms=random, gd",
-                                "--set", "experiment.seed=" + seed,
-                                "--set", "placement.max_iterations=40"};
+  std::vector<std::string> a = {LOSMIMO_EXPERIMENT_APP,
+                                option,
+                                dir.string(),
+                                "--threads",
+                                "1",
+                                "--trials",
+                                "2",
+                                "--set",
+                                "experiment.sweeps=sigma_loc_m, sigma_act_m",
+                                "--set",
+                                "experiment.sigma_loc_values_m=0, 0.04, 0.08, 0.12, 0.16",
+                                "--set",
+                                "experiment.sigma_act_values_m=0, 0.06, 0.12",
+                                "--set",
+                                "experiment.algorithms=random, gd",
+                                "--set",
+                                "experiment.seed=" + seed,
+                                "--set",
+                                "placement.max_iterations=40"};
   a.insert(a.end(), more.begin(), more.end());
   return a;
 }
@@ -37,7 +49,8 @@ std::vector<std::string> args(const std::string& option, const fs::path& dir, co
 // Every file of a folder and its bytes.
 std::map<std::string, std::string> snapshot(const fs::path& dir) {
   std::map<std::string, std::string> files;
-  for (const fs::directory_entry& e : fs::directory_iterator(dir)) files[e.path().filename().string()] = read_file(e.path());
+  for (const fs::directory_entry& e : fs::directory_iterator(dir))
+    files[e.path().filename().string()] = read_file(e.path());
   return files;
 }
 
@@ -64,8 +77,8 @@ TEST_F(ExperimentInterrupt, ShardKilledMidRun_ResumeWithoutShardFinishesThatShar
   const fs::path s0 = root_ / "s0", s1 = root_ / "s1", whole = root_ / "whole";
   ASSERT_EQ(run(args("--out", whole, "1"), "whole"), 0) << log("whole");
   ASSERT_EQ(run(args("--out", s1, "1", {"--shard", "1/2"}), "s1"), 0) << log("s1");
-  const lt::PausedProcess p =
-      lt::spawn_until_paused(args("--out", s0, "1", {"--shard", "0/2"}), (root_ / "s0.log").string(), "experiment.point_done#3");
+  const lt::PausedProcess p = lt::spawn_until_paused(args("--out", s0, "1", {"--shard", "0/2"}),
+                                                     (root_ / "s0.log").string(), "experiment.point_done#3");
   ASSERT_TRUE(p.paused) << log("s0");
   ASSERT_EQ(lt::interrupt(p, SIGKILL), 128 + SIGKILL);
   ASSERT_FALSE(fs::exists(s0));
@@ -76,7 +89,8 @@ TEST_F(ExperimentInterrupt, ShardKilledMidRun_ResumeWithoutShardFinishesThatShar
   // THEN: it finished shard 0, which merges with shard 1 into the uninterrupted run's results.
   EXPECT_NE(log("resume").find("shard 0/2"), std::string::npos) << log("resume");
   EXPECT_NE(read_file(s0 / "losmimo-run.ini").find("kind = shard"), std::string::npos);
-  ASSERT_EQ(run({LOSMIMO_EXPERIMENT_APP, "merge", s0.string(), s1.string(), "--out", (root_ / "m").string()}, "merge"), 0)
+  ASSERT_EQ(run({LOSMIMO_EXPERIMENT_APP, "merge", s0.string(), s1.string(), "--out", (root_ / "m").string()}, "merge"),
+            0)
       << log("merge");
   for (const char* f : {"trials.csv", "summary.csv", "positions.csv"}) {
     EXPECT_EQ(read_file(root_ / "m" / f), read_file(whole / f)) << f;
@@ -105,7 +119,8 @@ TEST_F(ExperimentInterrupt, ShardRerunIntoItsFolder_IsRefusedOrKeepsTheOldShardW
       << log("m");
   // AND: once shard 1 is re-run with seed 2 too, the mixed pair is refused.
   ASSERT_EQ(run(args("--out", s1, "2", {"--shard", "1/2", "--replace"}), "d"), 0) << log("d");
-  EXPECT_EQ(run({LOSMIMO_EXPERIMENT_APP, "merge", s0.string(), s1.string(), "--out", (root_ / "m2").string()}, "m2"), 2);
+  EXPECT_EQ(run({LOSMIMO_EXPERIMENT_APP, "merge", s0.string(), s1.string(), "--out", (root_ / "m2").string()}, "m2"),
+            2);
   EXPECT_NE(log("m2").find("differs"), std::string::npos) << log("m2");
 }
 
@@ -118,8 +133,8 @@ TEST_F(ExperimentInterrupt, ReplaceKilledMidRunOrAtPublish_LeavesTheOldRunWhole_
   ASSERT_TRUE(before.count("fig2a.gp"));
   for (const std::string point : {"experiment.point_done", "staged.before_rename"}) {
     SCOPED_TRACE(point);
-    const lt::PausedProcess p = lt::spawn_until_paused(args("--out", dir, "2", {"--replace", "--set", "experiment.plots=false"}),
-                                                       (root_ / "k.log").string(), point);
+    const lt::PausedProcess p = lt::spawn_until_paused(
+        args("--out", dir, "2", {"--replace", "--set", "experiment.plots=false"}), (root_ / "k.log").string(), point);
     ASSERT_TRUE(p.paused) << log("k");
     ASSERT_EQ(lt::interrupt(p, SIGTERM), 128 + SIGTERM);
     EXPECT_EQ(snapshot(dir), before);

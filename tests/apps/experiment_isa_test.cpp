@@ -24,13 +24,25 @@ namespace {
 
 // Every algorithm, localization and actuation errors, 2 trials of 3 points.
 std::vector<std::string> app_args(const std::string& isa, const fs::path& out, const std::string& shard = "") {
-  std::vector<std::string> a = {"env", std::string(lp::kIsaEnvironmentVariable) + "=" + isa, LOSMIMO_EXPERIMENT_APP,
-                                "--out", out.string(), "--threads", "2", "--trials", "2",
-                                "--set", "experiment.sweeps=sigma_loc_m, sigma_act_m",
-                                "--set", "experiment.sigma_loc_values_m=0, 0.1",
-                                "--set", "experiment.sigma_act_values_m=0.06",
-                                "--set", "experiment.plots=false",
-                                "--set", "placement.max_iterations=150"};
+  std::vector<std::string> a = {"env",
+                                std::string(lp::kIsaEnvironmentVariable) + "=" + isa,
+                                LOSMIMO_EXPERIMENT_APP,
+                                "--out",
+                                out.string(),
+                                "--threads",
+                                "2",
+                                "--trials",
+                                "2",
+                                "--set",
+                                "experiment.sweeps=sigma_loc_m, sigma_act_m",
+                                "--set",
+                                "experiment.sigma_loc_values_m=0, 0.1",
+                                "--set",
+                                "experiment.sigma_act_values_m=0.06",
+                                "--set",
+                                "experiment.plots=false",
+                                "--set",
+                                "placement.max_iterations=150"};
   if (!shard.empty()) a.insert(a.end(), {"--shard", shard});
   return a;
 }

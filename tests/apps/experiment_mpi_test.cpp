@@ -26,12 +26,23 @@ namespace {
 using losmimo::test_support::read_file;
 
 std::vector<std::string> app_args(const fs::path& out) {
-  return {LOSMIMO_EXPERIMENT_APP, "--out", out.string(), "--threads", "1", "--trials", "3",
-          "--set", "experiment.sweeps=sigma_loc_m, sigma_act_m",
-          "--set", "experiment.sigma_loc_values_m=0, 0.1",
-          "--set", "experiment.sigma_act_values_m=0.04",
-          "--set", "experiment.plots=false",
-          "--set", "placement.max_iterations=150"};
+  return {LOSMIMO_EXPERIMENT_APP,
+          "--out",
+          out.string(),
+          "--threads",
+          "1",
+          "--trials",
+          "3",
+          "--set",
+          "experiment.sweeps=sigma_loc_m, sigma_act_m",
+          "--set",
+          "experiment.sigma_loc_values_m=0, 0.1",
+          "--set",
+          "experiment.sigma_act_values_m=0.04",
+          "--set",
+          "experiment.plots=false",
+          "--set",
+          "placement.max_iterations=150"};
 }
 
 class ExperimentMpi : public ::testing::Test {

@@ -35,15 +35,24 @@ int count_done_points(const fs::path& records) {
 // 8 points (5 + 3), 3 trials each, every algorithm; one thread so the points finish one by one.
 std::vector<std::string> app_args(const fs::path& out, const std::string& seed = "2018") {
   return {LOSMIMO_EXPERIMENT_APP,
-          "--out", out.string(),
-          "--threads", "1",
-          "--trials", "3",
-          "--set", "experiment.sweeps=sigma_loc_m, sigma_act_m",
-          "--set", "experiment.sigma_loc_values_m=0, 0.04, 0.08, 0.12, 0.16",
-          "--set", "experiment.sigma_act_values_m=0, 0.06, 0.12",
-          "--set", "experiment.plots=false",
-          "--set", "experiment.seed=" + seed,
-          "--set", "placement.max_iterations=200"};
+          "--out",
+          out.string(),
+          "--threads",
+          "1",
+          "--trials",
+          "3",
+          "--set",
+          "experiment.sweeps=sigma_loc_m, sigma_act_m",
+          "--set",
+          "experiment.sigma_loc_values_m=0, 0.04, 0.08, 0.12, 0.16",
+          "--set",
+          "experiment.sigma_act_values_m=0, 0.06, 0.12",
+          "--set",
+          "experiment.plots=false",
+          "--set",
+          "experiment.seed=" + seed,
+          "--set",
+          "placement.max_iterations=200"};
 }
 
 std::vector<std::string> resume_args(const fs::path& dir, const std::string& seed = "2018") {

@@ -35,9 +35,12 @@ losmimo::apps::ExperimentOptions tiny(const fs::path& out, int threads) {
   losmimo::apps::ExperimentOptions o;
   o.out_dir = out.string();
   o.threads = threads;
-  o.overrides = {"experiment.trials=3", "experiment.sweeps=sigma_loc_m, sigma_act_m",
-                 "experiment.sigma_loc_values_m=0, 0.1", "experiment.sigma_act_values_m=0.04",
-                 "experiment.plots=false", "placement.max_iterations=40"};
+  o.overrides = {"experiment.trials=3",
+                 "experiment.sweeps=sigma_loc_m, sigma_act_m",
+                 "experiment.sigma_loc_values_m=0, 0.1",
+                 "experiment.sigma_act_values_m=0.04",
+                 "experiment.plots=false",
+                 "placement.max_iterations=40"};
   return o;
 }
 
@@ -123,13 +126,16 @@ TEST_F(ExperimentShards, MissingShard_Exits2NamingIt) {
 
 TEST_F(ExperimentShards, RepeatedShard_Exits2) {
   std::string err;
-  EXPECT_EQ(losmimo::test_support::run_merge({shard_dir(0), shard_dir(1), shard_dir(1), shard_dir(2)}, root_ / "m_twice", &err), 2);
+  EXPECT_EQ(losmimo::test_support::run_merge({shard_dir(0), shard_dir(1), shard_dir(1), shard_dir(2)},
+                                             root_ / "m_twice", &err),
+            2);
   EXPECT_NE(err.find("given twice"), std::string::npos) << err;
 }
 
 TEST_F(ExperimentShards, NotAShardFolder_Exits2) {
   std::string err;
-  EXPECT_EQ(losmimo::test_support::run_merge({shard_dir(0), root_ / "single", shard_dir(2)}, root_ / "m_notshard", &err), 2);
+  EXPECT_EQ(
+      losmimo::test_support::run_merge({shard_dir(0), root_ / "single", shard_dir(2)}, root_ / "m_notshard", &err), 2);
   EXPECT_NE(err.find("holds a finished experiment, not a shard"), std::string::npos) << err;
 }
 
@@ -174,7 +180,8 @@ fs::path copy_shard(const fs::path& root, int i, const std::string& name, bool (
   const fs::path src = fs::path(root) / ("shard" + std::to_string(i));
   const fs::path dst = fs::path(root) / name / ("shard" + std::to_string(i));
   fs::create_directories(dst);
-  for (const char* f : {"config.ini", "records.csv"}) fs::copy_file(src / f, dst / f, fs::copy_options::overwrite_existing);
+  for (const char* f : {"config.ini", "records.csv"})
+    fs::copy_file(src / f, dst / f, fs::copy_options::overwrite_existing);
   std::istringstream in(read_file(src / "losmimo-run.ini"));
   std::ofstream out(dst / "losmimo-run.ini", std::ios::binary);
   for (std::string line; std::getline(in, line);) {

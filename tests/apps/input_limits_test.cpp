@@ -89,16 +89,20 @@ const std::string kPositions = std::string(LOSMIMO_SOURCE_DIR) + "/datasets/exam
 
 TEST_P(InputLimits, EvalPositionsAndConfig) {
   expect_refused({LOSMIMO_EVAL_APP, "--positions", huge_.string()}, "positions file larger than 16 MiB");
-  expect_refused({LOSMIMO_EVAL_APP, "--positions", kPositions, "--config", huge_.string()}, "config file larger than 1 MiB");
+  expect_refused({LOSMIMO_EVAL_APP, "--positions", kPositions, "--config", huge_.string()},
+                 "config file larger than 1 MiB");
 }
 
 TEST_P(InputLimits, ExperimentConfigCheckpointAndShards) {
   expect_refused({LOSMIMO_EXPERIMENT_APP, "--config", huge_.string(), "--out", (root_ / "r").string()},
                  "config file larger than 1 MiB");
   // A checkpoint whose records.partial, or config.ini, is the huge input.
-  const std::vector<std::string> tiny = {"--threads", "1", "--trials", "1", "--set", "experiment.sweeps=sigma_loc_m",
-                                         "--set", "experiment.sigma_loc_values_m=0", "--set", "experiment.plots=false",
-                                         "--set", "placement.max_iterations=5"};
+  const std::vector<std::string> tiny = {"--threads", "1",
+                                         "--trials",  "1",
+                                         "--set",     "experiment.sweeps=sigma_loc_m",
+                                         "--set",     "experiment.sigma_loc_values_m=0",
+                                         "--set",     "experiment.plots=false",
+                                         "--set",     "placement.max_iterations=5"};
   std::vector<std::string> shard = {LOSMIMO_EXPERIMENT_APP, "--out", (root_ / "s").string(), "--shard", "0/1"};
   shard.insert(shard.end(), tiny.begin(), tiny.end());
   ASSERT_EQ(losmimo::test_support::run_process(shard, (root_ / "s.log").string()), 0) << read_file(root_ / "s.log");

@@ -121,6 +121,6 @@ TEST(ErrorSigmas, BeyondTheLimit_AreRejectedBeforeAnyWork) {
     EXPECT_NE(msg.find("exp.ini:2"), std::string::npos) << msg;
     EXPECT_NE(msg.find("1e300"), std::string::npos) << msg;
   }
-  EXPECT_NO_THROW(losmimo::experiment::load_experiment_settings(
-      losmimo::common::IniConfig::from_string("[experiment]\nsigma_act_values_m = 0, 1e3\n[errors]\nsigma_loc_m = 1e3\n")));
+  EXPECT_NO_THROW(losmimo::experiment::load_experiment_settings(losmimo::common::IniConfig::from_string(
+      "[experiment]\nsigma_act_values_m = 0, 1e3\n[errors]\nsigma_loc_m = 1e3\n")));
 }

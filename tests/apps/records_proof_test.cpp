@@ -81,14 +81,17 @@ TEST(RecordsProof, RecordMissing_IsRefusedNamingFileLineAndPoint) {
   std::vector<std::string> l = lines_of(shard_text());
   l.erase(l.begin() + 3);  // magic, h, r(0,gd), [r(0,bf)] ...
   const std::string e = error_of(join(l), RecordsMode::kComplete);
-  EXPECT_NE(e.find("s0/records.csv:6: point 0 has 3 records where its d line says 4 (a record missing)"), std::string::npos) << e;
+  EXPECT_NE(e.find("s0/records.csv:6: point 0 has 3 records where its d line says 4 (a record missing)"),
+            std::string::npos)
+      << e;
 }
 
 TEST(RecordsProof, RecordDuplicated_IsRefusedNamingTheRecordAndBothLines) {
   std::vector<std::string> l = lines_of(shard_text());
   l.insert(l.begin() + 3, l[2]);
   const std::string e = error_of(join(l), RecordsMode::kComplete);
-  EXPECT_NE(e.find("s0/records.csv:4: record (point 0, trial 0, gd) appears twice (also line 3)"), std::string::npos) << e;
+  EXPECT_NE(e.find("s0/records.csv:4: record (point 0, trial 0, gd) appears twice (also line 3)"), std::string::npos)
+      << e;
 }
 
 TEST(RecordsProof, ValueAltered_IsRefusedNamingTheRecord) {
@@ -135,8 +138,12 @@ apps::ExperimentOptions tiny(const fs::path& out, const std::string& shard) {
   o.out_dir = out.string();
   o.threads = 1;
   o.shard = shard;
-  o.overrides = {"experiment.trials=2", "experiment.sweeps=sigma_loc_m", "experiment.sigma_loc_values_m=0, 0.1",
-                 "experiment.algorithms=random, gd", "experiment.plots=false", "placement.max_iterations=20"};
+  o.overrides = {"experiment.trials=2",
+                 "experiment.sweeps=sigma_loc_m",
+                 "experiment.sigma_loc_values_m=0, 0.1",
+                 "experiment.algorithms=random, gd",
+                 "experiment.plots=false",
+                 "placement.max_iterations=20"};
   return o;
 }
 
@@ -183,7 +190,8 @@ TEST_F(RecordsProofApps, MergeOfAShardWithARecordDeleted_Exits2NamingFolderAndRe
   std::string err;
   // The manifest sees the file changed...
   EXPECT_EQ(test_support::run_merge({root_ / "s0", root_ / "s1"}, root_ / "m", &err), 2);
-  EXPECT_NE(err.find((root_ / "s1" / "records.csv").string() + ": changed since the run wrote it"), std::string::npos) << err;
+  EXPECT_NE(err.find((root_ / "s1" / "records.csv").string() + ": changed since the run wrote it"), std::string::npos)
+      << err;
   // ...and with the manifest made to agree, the records themselves.
   reseal(root_ / "s1", "records.csv");
   EXPECT_EQ(test_support::run_merge({root_ / "s0", root_ / "s1"}, root_ / "m", &err), 2);
@@ -200,7 +208,8 @@ TEST_F(RecordsProofApps, MergeOfAShardWithARecordDuplicatedOrAltered_Exits2Namin
   reseal(root_ / "s0", "records.csv");
   std::string err;
   EXPECT_EQ(test_support::run_merge({root_ / "s0", root_ / "s1"}, root_ / "m", &err), 2);
-  EXPECT_NE(err.find("records.csv:4: record (point 0, trial 0, random) appears twice (also line 3)"), std::string::npos) << err;
+  EXPECT_NE(err.find("records.csv:4: record (point 0, trial 0, random) appears twice (also line 3)"), std::string::npos)
+      << err;
 
   l = lines_of(original);
   l[2] = with_status(l[2], "tampered");

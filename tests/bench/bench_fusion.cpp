@@ -1,5 +1,6 @@
 // Cost of the fusion layer: one sliding-window refinement per UAV per swarm iteration, the
-// centralized eq. 4 solution, and the range-only smoother. Windows are drawn before timing (tests/fusion/window_simulator.h).
+// centralized eq. 4 solution, and the range-only smoother. Windows are drawn before timing
+// (tests/fusion/window_simulator.h).
 #include <benchmark/benchmark.h>
 
 #include <random>
@@ -40,11 +41,7 @@ void BM_RefineWindow(benchmark::State& state) {
     i = (i + 1) % kNumWindows;
   }
 }
-BENCHMARK(BM_RefineWindow)
-    ->Args({5, 1})
-    ->Args({5, 0})
-    ->Args({10, 1})
-    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_RefineWindow)->Args({5, 1})->Args({5, 0})->Args({10, 1})->Unit(benchmark::kMicrosecond);
 
 void BM_SolveCentralized(benchmark::State& state) {
   const losmimo::placement::Scenario scenario;
@@ -67,8 +64,7 @@ void BM_ClosedLoopRun(benchmark::State& state) {
   const Eigen::Matrix3Xd start = losmimo::placement::random_start_positions_m(settings.scenario, rng);
   losmimo::localization::SimulatorConfig sim;
   sim.sigma_angle_rad = 1.8e-4;
-  losmimo::fusion::ClosedLoopConfig config =
-      losmimo::fusion::matched_closed_loop_config(sim, settings.scenario);
+  losmimo::fusion::ClosedLoopConfig config = losmimo::fusion::matched_closed_loop_config(sim, settings.scenario);
   config.refine = state.range(0) == 1;
   if (state.range(0) == 2) config.filter_kind = losmimo::localization::FilterKind::kParticle;
   std::uint64_t seed = 1;
@@ -78,8 +74,7 @@ void BM_ClosedLoopRun(benchmark::State& state) {
     iterations += run.run.iterations;
     benchmark::DoNotOptimize(run.run.final_m.data());
   }
-  state.counters["swarm_iterations"] =
-      benchmark::Counter(iterations, benchmark::Counter::kAvgIterations);
+  state.counters["swarm_iterations"] = benchmark::Counter(iterations, benchmark::Counter::kAvgIterations);
 }
 BENCHMARK(BM_ClosedLoopRun)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 

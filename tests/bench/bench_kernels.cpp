@@ -44,9 +44,12 @@ constexpr Isa kIsas[] = {Isa::kSse2, Isa::kAvx2, Isa::kAvx512};
 
 PeakVariant peak_variant(Isa isa) {
   switch (isa) {
-    case Isa::kSse2: return PeakVariant::kSse2;
-    case Isa::kAvx2: return PeakVariant::kAvx2Fma;
-    case Isa::kAvx512: return PeakVariant::kAvx512Fma;
+    case Isa::kSse2:
+      return PeakVariant::kSse2;
+    case Isa::kAvx2:
+      return PeakVariant::kAvx2Fma;
+    case Isa::kAvx512:
+      return PeakVariant::kAvx512Fma;
   }
   return PeakVariant::kSse2;
 }
@@ -133,8 +136,8 @@ void BM_PeakFlops(benchmark::State& state) {
   constexpr std::int64_t kReps = 100000;
   for (auto _ : state) benchmark::DoNotOptimize(bench::run_peak(v, kReps));
   state.SetLabel(bench::name(v));
-  state.counters["flops"] =
-      benchmark::Counter(bench::peak_flops(v, kReps) * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["flops"] = benchmark::Counter(bench::peak_flops(v, kReps) * static_cast<double>(state.iterations()),
+                                               benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_PeakFlops)->DenseRange(0, bench::kNumPeakVariants - 1);
 

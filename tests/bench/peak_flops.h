@@ -20,13 +20,20 @@ inline constexpr int kNumPeakVariants = 7;
 
 inline const char* name(PeakVariant v) {
   switch (v) {
-    case PeakVariant::kScalar: return "scalar";
-    case PeakVariant::kScalarFma: return "scalar_fma";
-    case PeakVariant::kSse2: return "sse2";
-    case PeakVariant::kAvx2NoFma: return "avx2_nofma";
-    case PeakVariant::kAvx2Fma: return "avx2_fma";
-    case PeakVariant::kAvx512NoFma: return "avx512_nofma";
-    case PeakVariant::kAvx512Fma: return "avx512_fma";
+    case PeakVariant::kScalar:
+      return "scalar";
+    case PeakVariant::kScalarFma:
+      return "scalar_fma";
+    case PeakVariant::kSse2:
+      return "sse2";
+    case PeakVariant::kAvx2NoFma:
+      return "avx2_nofma";
+    case PeakVariant::kAvx2Fma:
+      return "avx2_fma";
+    case PeakVariant::kAvx512NoFma:
+      return "avx512_nofma";
+    case PeakVariant::kAvx512Fma:
+      return "avx512_fma";
   }
   return "?";
 }
@@ -35,12 +42,17 @@ inline bool supported(PeakVariant v) {
   __builtin_cpu_init();
   switch (v) {
     case PeakVariant::kScalar:
-    case PeakVariant::kSse2: return true;
-    case PeakVariant::kScalarFma: return __builtin_cpu_supports("fma");
-    case PeakVariant::kAvx2NoFma: return __builtin_cpu_supports("avx2");
-    case PeakVariant::kAvx2Fma: return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    case PeakVariant::kSse2:
+      return true;
+    case PeakVariant::kScalarFma:
+      return __builtin_cpu_supports("fma");
+    case PeakVariant::kAvx2NoFma:
+      return __builtin_cpu_supports("avx2");
+    case PeakVariant::kAvx2Fma:
+      return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
     case PeakVariant::kAvx512NoFma:
-    case PeakVariant::kAvx512Fma: return __builtin_cpu_supports("avx512f");
+    case PeakVariant::kAvx512Fma:
+      return __builtin_cpu_supports("avx512f");
   }
   return false;
 }
@@ -51,20 +63,20 @@ namespace detail {
 constexpr int kChainsNarrow = 12;
 constexpr int kChainsWide = 24;
 
-#define LOSMIMO_PEAK_BODY(VEC, SET1, OP, CH)                                   \
-  VEC acc[CH];                                                                 \
-  for (int i = 0; i < CH; ++i) acc[i] = SET1(1.0 + i * 1e-3);                  \
-  const VEC b = SET1(0.9999999);                                               \
-  const VEC c = SET1(1e-7);                                                    \
-  for (std::int64_t r = 0; r < reps; ++r) {                                    \
+#define LOSMIMO_PEAK_BODY(VEC, SET1, OP, CH)                                         \
+  VEC acc[CH];                                                                       \
+  for (int i = 0; i < CH; ++i) acc[i] = SET1(1.0 + i * 1e-3);                        \
+  const VEC b = SET1(0.9999999);                                                     \
+  const VEC c = SET1(1e-7);                                                          \
+  for (std::int64_t r = 0; r < reps; ++r) {                                          \
     _Pragma("GCC unroll 32") for (int i = 0; i < CH; ++i) acc[i] = OP(acc[i], b, c); \
-  }                                                                            \
-  double sum = 0.0;                                                            \
-  for (int i = 0; i < CH; ++i) {                                               \
-    double t[8];                                                               \
-    __builtin_memcpy(t, &acc[i], sizeof(double));                              \
-    sum += t[0];                                                               \
-  }                                                                            \
+  }                                                                                  \
+  double sum = 0.0;                                                                  \
+  for (int i = 0; i < CH; ++i) {                                                     \
+    double t[8];                                                                     \
+    __builtin_memcpy(t, &acc[i], sizeof(double));                                    \
+    sum += t[0];                                                                     \
+  }                                                                                  \
   return sum;
 
 inline __m128d sd_muladd(__m128d a, __m128d b, __m128d c) { return _mm_add_sd(_mm_mul_sd(a, b), c); }
@@ -111,13 +123,20 @@ __attribute__((noinline, target("avx512f"))) inline double run_avx512_fma(std::i
 inline double run_peak(PeakVariant v, std::int64_t reps) {
   using namespace detail;
   switch (v) {
-    case PeakVariant::kScalar: return run_scalar(reps);
-    case PeakVariant::kScalarFma: return run_scalar_fma(reps);
-    case PeakVariant::kSse2: return run_sse2(reps);
-    case PeakVariant::kAvx2NoFma: return run_avx2(reps);
-    case PeakVariant::kAvx2Fma: return run_avx2_fma(reps);
-    case PeakVariant::kAvx512NoFma: return run_avx512(reps);
-    case PeakVariant::kAvx512Fma: return run_avx512_fma(reps);
+    case PeakVariant::kScalar:
+      return run_scalar(reps);
+    case PeakVariant::kScalarFma:
+      return run_scalar_fma(reps);
+    case PeakVariant::kSse2:
+      return run_sse2(reps);
+    case PeakVariant::kAvx2NoFma:
+      return run_avx2(reps);
+    case PeakVariant::kAvx2Fma:
+      return run_avx2_fma(reps);
+    case PeakVariant::kAvx512NoFma:
+      return run_avx512(reps);
+    case PeakVariant::kAvx512Fma:
+      return run_avx512_fma(reps);
   }
   return 0.0;
 }
@@ -127,12 +146,21 @@ inline double peak_flops(PeakVariant v, std::int64_t reps) {
   int lanes = 1, chains = detail::kChainsNarrow;
   switch (v) {
     case PeakVariant::kScalar:
-    case PeakVariant::kScalarFma: lanes = 1; break;
-    case PeakVariant::kSse2: lanes = 2; break;
+    case PeakVariant::kScalarFma:
+      lanes = 1;
+      break;
+    case PeakVariant::kSse2:
+      lanes = 2;
+      break;
     case PeakVariant::kAvx2NoFma:
-    case PeakVariant::kAvx2Fma: lanes = 4; break;
+    case PeakVariant::kAvx2Fma:
+      lanes = 4;
+      break;
     case PeakVariant::kAvx512NoFma:
-    case PeakVariant::kAvx512Fma: lanes = 8; chains = detail::kChainsWide; break;
+    case PeakVariant::kAvx512Fma:
+      lanes = 8;
+      chains = detail::kChainsWide;
+      break;
   }
   return 2.0 * static_cast<double>(reps) * chains * lanes;
 }

@@ -26,8 +26,8 @@ namespace lp = placement;
 
 constexpr int kTrials = 2;
 constexpr double kLargestNoise_m = 0.18;
-const std::vector<std::string> kBeaconAlgorithms = {"gd_gauss", "gd_ekf", "gd_gauss_matched", "gd_pf", "gd_ekf_ceres",
-                                                    "bf",       "ura_ekf", "centralized"};
+const std::vector<std::string> kBeaconAlgorithms = {"gd_gauss",     "gd_ekf", "gd_gauss_matched", "gd_pf",
+                                                    "gd_ekf_ceres", "bf",     "ura_ekf",          "centralized"};
 const std::vector<std::string> kOutageAlgorithms = {"gd_ekf", "gd_ekf_nofallback"};
 const std::vector<int> kOutageValues = {0, 4};
 
@@ -111,8 +111,8 @@ TEST(CoevaluationApp, TinyConfig_EveryAlgorithmAndColumn_SameBytesInOneAndTwoThr
   for (const char* f : {"trials.csv", "positions.csv", "summary.csv"}) {
     EXPECT_EQ(read_file(dir1 / f), read_file(dir2 / f)) << f;
   }
-  for (const char* f : {"coeval_sinr.gp", "coeval_sinr.dat", "coeval_travel.gp", "coeval_rmse.gp", "outage.gp",
-                        "outage.dat"}) {
+  for (const char* f :
+       {"coeval_sinr.gp", "coeval_sinr.dat", "coeval_travel.gp", "coeval_rmse.gp", "outage.gp", "outage.dat"}) {
     EXPECT_TRUE(fs::exists(dir1 / f)) << f;
   }
   const std::string report = read_file(dir1 / "report.md");
@@ -265,10 +265,9 @@ TEST(CoevaluationOutage, EightUavsLoseTheBeaconMidMission_TheyFallBackAndTheSwar
 
 TEST(CoevaluationPairing, GdGaussAtBeaconNoiseZero_EqualsBuiltInGdAtSigmaLocZero) {
   // GIVEN: both sweeps in one configuration, no actuation error (so no seed enters).
-  const losmimo::experiment::ExperimentSettings s =
-      settings_from({"experiment.sweeps=sigma_loc_m, beacon_noise_m", "experiment.sigma_loc_values_m=0",
-                     "experiment.algorithms=gd", "coevaluation.beacon_noise_values_m=0",
-                     "coevaluation.algorithms=gd_gauss", "placement.max_iterations=300"});
+  const losmimo::experiment::ExperimentSettings s = settings_from(
+      {"experiment.sweeps=sigma_loc_m, beacon_noise_m", "experiment.sigma_loc_values_m=0", "experiment.algorithms=gd",
+       "coevaluation.beacon_noise_values_m=0", "coevaluation.algorithms=gd_gauss", "placement.max_iterations=300"});
   const auto same = [](const losmimo::experiment::TrialRecord& a, const losmimo::experiment::TrialRecord& b) {
     return a.iterations == b.iterations && a.final_m.cols() == b.final_m.cols() &&
            std::memcmp(a.final_m.data(), b.final_m.data(), sizeof(double) * a.final_m.size()) == 0 &&
@@ -276,7 +275,8 @@ TEST(CoevaluationPairing, GdGaussAtBeaconNoiseZero_EqualsBuiltInGdAtSigmaLocZero
   };
   for (int trial = 0; trial < 2; ++trial) {
     // WHEN
-    const std::vector<losmimo::experiment::TrialRecord> builtin = losmimo::experiment::run_trial(s, losmimo::experiment::kSweepSigmaLoc, 0, trial);
+    const std::vector<losmimo::experiment::TrialRecord> builtin =
+        losmimo::experiment::run_trial(s, losmimo::experiment::kSweepSigmaLoc, 0, trial);
     const std::vector<losmimo::experiment::TrialRecord> coeval = run_beacon_noise_trial(s, 0, trial);
     ASSERT_EQ(builtin.size(), 1u);
     ASSERT_EQ(coeval.size(), 1u);
@@ -285,7 +285,8 @@ TEST(CoevaluationPairing, GdGaussAtBeaconNoiseZero_EqualsBuiltInGdAtSigmaLocZero
     EXPECT_TRUE(same(coeval[0], builtin[0])) << "trial " << trial;
   }
   // THEN (the check can fail): another trial's start gives another run.
-  EXPECT_FALSE(same(run_beacon_noise_trial(s, 0, 1)[0], losmimo::experiment::run_trial(s, losmimo::experiment::kSweepSigmaLoc, 0, 0)[0]));
+  EXPECT_FALSE(same(run_beacon_noise_trial(s, 0, 1)[0],
+                    losmimo::experiment::run_trial(s, losmimo::experiment::kSweepSigmaLoc, 0, 0)[0]));
 }
 
 }  // namespace

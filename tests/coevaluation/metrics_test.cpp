@@ -19,10 +19,13 @@ using experiment::ExtensionMetric;
 using experiment::TrialRecord;
 
 TEST(CoevaluationMetricTable, NamesOrderAndUnits_AreTheDocumentedColumns) {
-  const std::vector<std::pair<std::string, std::string>> expected = {
-      {"loc_rmse_m", "m"},           {"loc_lateral_rmse_m", "m"},    {"nees", ""},
-      {"bf_fallback_fraction", ""},  {"beacon_lateral_rmse_m", "m"}, {"paired_travel_diff_m", "m"},
-      {"paired_iterations_diff", "iterations"}};
+  const std::vector<std::pair<std::string, std::string>> expected = {{"loc_rmse_m", "m"},
+                                                                     {"loc_lateral_rmse_m", "m"},
+                                                                     {"nees", ""},
+                                                                     {"bf_fallback_fraction", ""},
+                                                                     {"beacon_lateral_rmse_m", "m"},
+                                                                     {"paired_travel_diff_m", "m"},
+                                                                     {"paired_iterations_diff", "iterations"}};
   std::vector<std::pair<std::string, std::string>> table;
   for (const ExtensionMetric& m : coevaluation_metrics()) {
     table.emplace_back(m.name, m.unit);
@@ -39,12 +42,12 @@ TEST(CoevaluationMetricTable, NamesOrderAndUnits_AreTheDocumentedColumns) {
 TEST(CoevaluationMetricTable, EveryAlgorithmOfBothSweeps_SetsEveryDeclaredMetric) {
   // GIVEN every algorithm of both sweeps, one short trial each
   common::IniConfig config;
-  for (const char* o : {"experiment.sweeps=beacon_noise_m, beacon_outage", "experiment.trials=1",
-                        "placement.max_iterations=40", "coevaluation.beacon_noise_values_m=0.1",
-                        "closed_loop.num_particles=100", "coevaluation.outage_values=4",
-                        "coevaluation.outage_algorithms=gd_ekf, gd_ekf_nofallback, gd_pf, gd_ekf_ceres",
-                        "coevaluation.algorithms=gd_gauss, gd_gauss_matched, gd_ekf, gd_ekf_nofallback, gd_pf, "
-                        "gd_ekf_ceres, bf, ura_ekf, centralized"}) {
+  for (const char* o :
+       {"experiment.sweeps=beacon_noise_m, beacon_outage", "experiment.trials=1", "placement.max_iterations=40",
+        "coevaluation.beacon_noise_values_m=0.1", "closed_loop.num_particles=100", "coevaluation.outage_values=4",
+        "coevaluation.outage_algorithms=gd_ekf, gd_ekf_nofallback, gd_pf, gd_ekf_ceres",
+        "coevaluation.algorithms=gd_gauss, gd_gauss_matched, gd_ekf, gd_ekf_nofallback, gd_pf, "
+        "gd_ekf_ceres, bf, ura_ekf, centralized"}) {
     config.set_override(o);
   }
   const experiment::ExperimentSettings s = experiment::load_experiment_settings(config, experiment_extensions());
@@ -55,7 +58,8 @@ TEST(CoevaluationMetricTable, EveryAlgorithmOfBothSweeps_SetsEveryDeclaredMetric
   // THEN each record sets every declared metric (extension_columns refuses one left unset)
   for (const TrialRecord& r : records) {
     std::vector<double> columns;
-    ASSERT_NO_THROW(columns = experiment::extension_columns(r, coevaluation_metrics())) << r.sweep << " " << r.algorithm;
+    ASSERT_NO_THROW(columns = experiment::extension_columns(r, coevaluation_metrics()))
+        << r.sweep << " " << r.algorithm;
     // AND NaN where the algorithm has no value: BF and the centralized solution estimate nothing
     if (r.algorithm == "bf" || r.algorithm == "centralized") {
       for (const double v : columns) EXPECT_TRUE(std::isnan(v)) << r.algorithm;

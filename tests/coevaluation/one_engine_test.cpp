@@ -67,11 +67,11 @@ TEST(OneEngine, GdGaussAtZeroNoise_IsTheBuiltInSigmaLocSweepsGd_WithoutActuation
   // that matters; the built-in sigma_loc sweep's point 0 and the co-evaluation's point 0.
   const experiment::ExperimentSettings s =
       settings("0", {"experiment.sweeps=sigma_loc_m, beacon_noise_m", "coevaluation.algorithms=gd_gauss",
-                     "errors.sigma_act_m=0", "experiment.sigma_loc_values_m=0",
-                     "experiment.algorithms=gd"});
+                     "errors.sigma_act_m=0", "experiment.sigma_loc_values_m=0", "experiment.algorithms=gd"});
   for (int trial = 0; trial < 2; ++trial) {
     const experiment::TrialRecord coeval = record_of(run_beacon_noise_trial(s, 0, trial), "gd_gauss");
-    const experiment::TrialRecord builtin = record_of(experiment::run_trial(s, experiment::kSweepSigmaLoc, 0, trial), "gd");
+    const experiment::TrialRecord builtin =
+        record_of(experiment::run_trial(s, experiment::kSweepSigmaLoc, 0, trial), "gd");
     // THEN: two entry points, one run.
     EXPECT_EQ(coeval.iterations, builtin.iterations);
     EXPECT_EQ(coeval.final_m, builtin.final_m);
@@ -81,9 +81,9 @@ TEST(OneEngine, GdGaussAtZeroNoise_IsTheBuiltInSigmaLocSweepsGd_WithoutActuation
 
 TEST(OneEngine, AlgorithmStopRules_ActInTheCoevaluation) {
   // GIVEN: [gd], [bf] and [ura] iteration caps far below what the runs need at this noise.
-  const experiment::ExperimentSettings s = settings(
-      "0.1", {"coevaluation.algorithms=gd_gauss, gd_ekf, gd_gauss_matched, bf, ura_ekf", "gd.max_iterations=7",
-              "bf.max_iterations=9", "ura.max_iterations=3", "placement.target_icn=0.999"});
+  const experiment::ExperimentSettings s =
+      settings("0.1", {"coevaluation.algorithms=gd_gauss, gd_ekf, gd_gauss_matched, bf, ura_ekf", "gd.max_iterations=7",
+                       "bf.max_iterations=9", "ura.max_iterations=3", "placement.target_icn=0.999"});
   const std::vector<experiment::TrialRecord> records = run_beacon_noise_trial(s, 0, 0);
   // THEN: every run stops at its own algorithm's cap; the closed loop is a GD planner.
   EXPECT_EQ(record_of(records, "gd_gauss").iterations, 7);

@@ -46,7 +46,8 @@ TEST(CoevaluationKeys, Defaults_AreTheClosedLoopsForTheSharedKeys) {
   EXPECT_EQ(record.refinement.use_csi, c.closed_loop.refinement.use_csi);
   EXPECT_EQ(to_ini(c),
             "[coevaluation]\nbeacon_noise_values_m = 0, 0.02, 0.04, 0.06, 0.08, 0.1, 0.12, 0.14, 0.16, 0.18\n"
-            "algorithms = gd_gauss, gd_ekf, gd_gauss_matched, gd_pf, gd_ekf_ceres, bf, ura_ekf, centralized\nura_variant = rigid\n"
+            "algorithms = gd_gauss, gd_ekf, gd_gauss_matched, gd_pf, gd_ekf_ceres, bf, ura_ekf, "
+            "centralized\nura_variant = rigid\n"
             "outage_values = 0, 2, 4, 8\noutage_algorithms = gd_ekf, gd_ekf_nofallback\noutage_first_epoch = 10\n"
             "outage_epochs = 30\noutage_degraded_after_epochs = 5\noutage_beacon_noise_m = 0.1\n\n"
             "[closed_loop]\nbeacon_sigma_range_m = 0.1\ndr_sigma_floor_m = 0.01\ndr_sigma_fraction = 0.02\n"
@@ -76,13 +77,13 @@ TEST(CoevaluationKeys, EveryRefusedValue_NamesFileLineAndKey) {
 
 TEST(CoevaluationKeys, OldSpellings_AreRefusedNamingTheClosedLoopKey) {
   const std::pair<const char*, const char*> renamed[] = {
-      {"sigma_range_m", "beacon_sigma_range_m"}, {"dr_sigma_floor_m", "dr_sigma_floor_m"},
+      {"sigma_range_m", "beacon_sigma_range_m"},  {"dr_sigma_floor_m", "dr_sigma_floor_m"},
       {"dr_sigma_fraction", "dr_sigma_fraction"}, {"pf_particles", "num_particles"},
       {"refine_window_epochs", "window_epochs"},  {"refine_use_csi", "use_csi"}};
   for (const auto& [old_key, key] : renamed) {
-    EXPECT_EQ(error_of(std::string("[coevaluation]\n") + old_key + " = 1\n"),
-              std::string("c.ini:2: [coevaluation] ") + old_key + ": no longer read: set [closed_loop] " + key +
-                  " instead");
+    EXPECT_EQ(
+        error_of(std::string("[coevaluation]\n") + old_key + " = 1\n"),
+        std::string("c.ini:2: [coevaluation] ") + old_key + ": no longer read: set [closed_loop] " + key + " instead");
     EXPECT_NO_THROW(fusion::closed_loop_keys().key("closed_loop", key));
   }
 }

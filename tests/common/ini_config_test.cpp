@@ -9,18 +9,22 @@
 using losmimo::test_support::expect_input_error;
 
 TEST(IniConfig, ParsesSectionsKeysAndComments) {
-  const auto cfg = losmimo::common::IniConfig::from_string("# top\n[scenario]\nsnr_db = 7.5 ; trailing\n\n[errors]\nsigma_loc_m=0.1\n");
+  const auto cfg = losmimo::common::IniConfig::from_string(
+      "# top\n[scenario]\nsnr_db = 7.5 ; trailing\n\n[errors]\nsigma_loc_m=0.1\n");
   EXPECT_DOUBLE_EQ(cfg.get_double("scenario", "snr_db", 0.0), 7.5);
   EXPECT_DOUBLE_EQ(cfg.get_double("errors", "sigma_loc_m", 0.0), 0.1);
   EXPECT_DOUBLE_EQ(cfg.get_double("errors", "sigma_act_m", 0.25), 0.25);
 }
 
 TEST(IniConfig, MalformedLines_NameTheLine) {
-  expect_input_error([] { losmimo::common::IniConfig::from_string("[scenario]\nsnr_db 10\n", "a.ini"); }, {"a.ini:2", "key = value"});
+  expect_input_error([] { losmimo::common::IniConfig::from_string("[scenario]\nsnr_db 10\n", "a.ini"); },
+                     {"a.ini:2", "key = value"});
   expect_input_error([] { losmimo::common::IniConfig::from_string("snr_db = 10\n", "b.ini"); }, {"b.ini:1", "outside"});
-  expect_input_error([] { losmimo::common::IniConfig::from_string("[s]\nk=1\nk=2\n", "c.ini"); }, {"c.ini:3", "duplicate"});
+  expect_input_error([] { losmimo::common::IniConfig::from_string("[s]\nk=1\nk=2\n", "c.ini"); },
+                     {"c.ini:3", "duplicate"});
   expect_input_error([] { losmimo::common::IniConfig::from_string("[scen\n", "d.ini"); }, {"d.ini:1"});
-  expect_input_error([] { losmimo::common::IniConfig::from_file("/nonexistent/x.ini"); }, {"/nonexistent/x.ini", "cannot open"});
+  expect_input_error([] { losmimo::common::IniConfig::from_file("/nonexistent/x.ini"); },
+                     {"/nonexistent/x.ini", "cannot open"});
 }
 
 TEST(IniConfig, ErrorsAboutAKey_CarryTheKeyAsTheirField) {

@@ -28,7 +28,8 @@ struct Toy {
 };
 
 void validate(const Toy& t) {
-  if (t.copy_hz > 2.0 * t.rate_hz) throw FieldError("copy_hz", "copy_hz = " + std::to_string(t.copy_hz) + ": must be <= 2 rate_hz");
+  if (t.copy_hz > 2.0 * t.rate_hz)
+    throw FieldError("copy_hz", "copy_hz = " + std::to_string(t.copy_hz) + ": must be <= 2 rate_hz");
   if (t.mode == "fast" && t.count > 8) throw FieldError("count", "count > 8 needs mode = slow");
   if (t.count == 7) throw std::invalid_argument("seven: unlucky");
 }
@@ -45,12 +46,13 @@ const KeyTable<Toy>& toy_keys() {
         K::integer("toy", "count", &Toy::count, 1, 10, "a count", "5"),
         K::integer("toy", "seed", &Toy::seed, 0, (1LL << 62), "a seed", "123456789012"),
         K::boolean("toy", "on", &Toy::on, "a switch", "false"),
-        K::text("toy", "mode",
-                [](Toy& t, const std::string& text, const std::string&) {
-                  if (text != "fast" && text != "slow") throw std::invalid_argument("'" + text + "': must be fast or slow");
-                  t.mode = text;
-                },
-                [](const Toy& t) { return t.mode; }, "fast | slow", "a mode", "slow"),
+        K::text(
+            "toy", "mode",
+            [](Toy& t, const std::string& text, const std::string&) {
+              if (text != "fast" && text != "slow") throw std::invalid_argument("'" + text + "': must be fast or slow");
+              t.mode = text;
+            },
+            [](const Toy& t) { return t.mode; }, "fast | slow", "a mode", "slow"),
         K::real_list("toy", "levels_m", &Toy::levels_m, Range::closed(0.0, 10.0), "levels [m]", "0.25, 3"),
         K::integer_list("toy", "ids", &Toy::ids, 0, 99, "ids", "4, 5, 6"),
         K::real("toy", "copy_hz", &Toy::copy_hz, {}, "a copy of the rate unless given [Hz]", "1")
@@ -146,12 +148,14 @@ TEST(KeyTable, RangeErrors_ShowTheValueAndTheRule) {
 }
 
 TEST(KeyTable, OldSpelling_IsRefusedNamingTheKeyToUse) {
-  EXPECT_EQ(error_of("[toy]\nold_rate_hz = 3\n"), "t.ini:2: [toy] old_rate_hz: no longer read: set [toy] rate_hz instead");
+  EXPECT_EQ(error_of("[toy]\nold_rate_hz = 3\n"),
+            "t.ini:2: [toy] old_rate_hz: no longer read: set [toy] rate_hz instead");
 }
 
 TEST(KeyTable, ValidatorFieldError_NamesTheKeyThatSetTheField) {
   // GIVEN a cross-field rule broken by the key on line 3
-  EXPECT_EQ(error_of("[toy]\nrate_hz = 1\ncopy_hz = 3\n"), "t.ini:3: [toy] copy_hz: copy_hz = 3.000000: must be <= 2 rate_hz");
+  EXPECT_EQ(error_of("[toy]\nrate_hz = 1\ncopy_hz = 3\n"),
+            "t.ini:3: [toy] copy_hz: copy_hz = 3.000000: must be <= 2 rate_hz");
   // a rule across keys names the field's key; a nested struct's field is found through its member
   EXPECT_EQ(error_of("[toy]\nmode = fast\ncount = 9\n"), "t.ini:3: [toy] count: count > 8 needs mode = slow");
   EXPECT_EQ(error_of("[toy]\nmode = fast\n[inner]\ngain = 0\n"), "t.ini:4: [inner] gain: gain = 0: must not be 0");

@@ -28,9 +28,9 @@ TEST(TestHook, TestSuiteBuild_HasThePausePoints) {
 
 TEST(TestHook, WithoutHooks_PauseVariableIsIgnored) {
   // GIVEN: the variable names the very point called, with a mark file, in a child process
-  const std::string mark = (std::filesystem::temp_directory_path() /
-                            ("losmimo_test_hook_" + std::to_string(::getpid()) + ".paused"))
-                               .string();
+  const std::string mark =
+      (std::filesystem::temp_directory_path() / ("losmimo_test_hook_" + std::to_string(::getpid()) + ".paused"))
+          .string();
   std::filesystem::remove(mark);
   const pid_t pid = ::fork();
   ASSERT_GE(pid, 0);

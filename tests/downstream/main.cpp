@@ -33,8 +33,8 @@ int main(int argc, char** argv) {
 
     const lp::LinkMetrics start_link = lp::evaluate_link(model.matrix(start), scenario.noise_variance());
     const lp::LinkMetrics link = lp::evaluate_link(model.matrix(run.final_m), scenario.noise_variance());
-    std::cout << "uavs " << scenario.num_uavs << ", planner " << run.planner << ", status "
-              << lp::to_string(run.status) << " after " << run.iterations << " iterations\n";
+    std::cout << "uavs " << scenario.num_uavs << ", planner " << run.planner << ", status " << lp::to_string(run.status)
+              << " after " << run.iterations << " iterations\n";
     std::cout << "icn start " << start_link.icn << " final " << link.icn << "\n";
     std::cout << "sinr_zf_db min " << lp::to_db(link.sinr.zf.minCoeff()) << " max "
               << lp::to_db(link.sinr.zf.maxCoeff()) << "\n";

@@ -22,9 +22,10 @@ constexpr double kSameSlot_m = 1e-9;  // the same position up to rounding
 
 // A small, fast experiment: errors on, a short cap, the given extra lines.
 ExperimentSettings settings_of(const std::string& extra, bool errors = true) {
-  const std::string text = std::string("[placement]\nmax_iterations = 40\n[errors]\n") +
-                           (errors ? "sigma_loc_m = 0.05\nsigma_act_m = 0.02\n" : "sigma_loc_m = 0\nsigma_act_m = 0\n") +
-                           "[experiment]\ntrials = 2\nalgorithms = gd, bf, ura\n" + extra;
+  const std::string text =
+      std::string("[placement]\nmax_iterations = 40\n[errors]\n") +
+      (errors ? "sigma_loc_m = 0.05\nsigma_act_m = 0.02\n" : "sigma_loc_m = 0\nsigma_act_m = 0\n") +
+      "[experiment]\ntrials = 2\nalgorithms = gd, bf, ura\n" + extra;
   return load_experiment_settings(common::IniConfig::from_string(text, "c.ini"), channel_sweep_extensions());
 }
 
@@ -180,7 +181,8 @@ TEST(ChannelSweeps, BadValues_StopBeforeAnyWorkNamingTheKey) {
             "in [1, 64]");
   EXPECT_NE(error_of("sweeps = bs_antennas\nbs_antennas_values = 9\n").find("9 antennas < scenario.num_uavs = 16"),
             std::string::npos);
-  EXPECT_NE(error_of("[channel]\ncoherence_iterations = 0\n").find("[channel] coherence_iterations"), std::string::npos);
+  EXPECT_NE(error_of("[channel]\ncoherence_iterations = 0\n").find("[channel] coherence_iterations"),
+            std::string::npos);
   EXPECT_NE(error_of("[channel]\nrician_k_db = nan\n").find("[channel] rician_k_db"), std::string::npos);
   EXPECT_EQ(error_of("sweeps = rician_k_db, csi_snr_db, bs_antennas\n"), "accepted");  // the defaults
 }

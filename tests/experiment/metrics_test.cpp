@@ -31,11 +31,11 @@ TEST(MetricTable, TrialsCsvHeader_IsTheDocumentedOne) {
 }
 
 TEST(MetricTable, SummaryColumns_KeepTheirHistoricalOrder) {
-  EXPECT_EQ(summary_metric_names(),
-            (std::vector<std::string>{"final_icn", "dist_to_icn050_m", "dist_to_icn095_m", "dist_total_m",
-                                      "probe_dist_m", "iterations", "sinr_nv_db", "sinr_zf_db", "sinr_mf_db",
-                                      "mean_sinr_nv_db", "mean_sinr_zf_db", "mean_sinr_mf_db",
-                                      "sum_rate_nv_bps_hz", "sum_rate_zf_bps_hz"}));
+  EXPECT_EQ(
+      summary_metric_names(),
+      (std::vector<std::string>{"final_icn", "dist_to_icn050_m", "dist_to_icn095_m", "dist_total_m", "probe_dist_m",
+                                "iterations", "sinr_nv_db", "sinr_zf_db", "sinr_mf_db", "mean_sinr_nv_db",
+                                "mean_sinr_zf_db", "mean_sinr_mf_db", "sum_rate_nv_bps_hz", "sum_rate_zf_bps_hz"}));
 }
 
 TEST(MetricTable, EveryEntry_ReadsAndWritesTheFieldOfItsName) {
@@ -47,15 +47,21 @@ TEST(MetricTable, EveryEntry_ReadsAndWritesTheFieldOfItsName) {
     m.set(r, m.flag ? 1.0 : 10.0 + k++);
   }
   // GIVEN distinct values set through the table, THEN each named field holds its own.
-  const std::pair<const char*, double> expected[] = {
-      {"iterations", r.iterations},       {"final_icn", r.final_icn},
-      {"dist_to_icn050_m", r.dist_to_icn050_m}, {"dist_to_icn095_m", r.dist_to_icn095_m},
-      {"dist_total_m", r.dist_total_m},   {"probe_dist_m", r.probe_dist_m},
-      {"sinr_nv_db", r.sinr_nv_db},       {"sinr_zf_db", r.sinr_zf_db},
-      {"sinr_mf_db", r.sinr_mf_db},       {"sum_rate_nv_bps_hz", r.sum_rate_nv_bps_hz},
-      {"sum_rate_zf_bps_hz", r.sum_rate_zf_bps_hz}, {"mean_sinr_nv_db", r.mean_sinr_nv_db},
-      {"mean_sinr_zf_db", r.mean_sinr_zf_db}, {"mean_sinr_mf_db", r.mean_sinr_mf_db},
-      {"dist_placement_m", r.dist_placement_m}};
+  const std::pair<const char*, double> expected[] = {{"iterations", r.iterations},
+                                                     {"final_icn", r.final_icn},
+                                                     {"dist_to_icn050_m", r.dist_to_icn050_m},
+                                                     {"dist_to_icn095_m", r.dist_to_icn095_m},
+                                                     {"dist_total_m", r.dist_total_m},
+                                                     {"probe_dist_m", r.probe_dist_m},
+                                                     {"sinr_nv_db", r.sinr_nv_db},
+                                                     {"sinr_zf_db", r.sinr_zf_db},
+                                                     {"sinr_mf_db", r.sinr_mf_db},
+                                                     {"sum_rate_nv_bps_hz", r.sum_rate_nv_bps_hz},
+                                                     {"sum_rate_zf_bps_hz", r.sum_rate_zf_bps_hz},
+                                                     {"mean_sinr_nv_db", r.mean_sinr_nv_db},
+                                                     {"mean_sinr_zf_db", r.mean_sinr_zf_db},
+                                                     {"mean_sinr_mf_db", r.mean_sinr_mf_db},
+                                                     {"dist_placement_m", r.dist_placement_m}};
   std::set<double> values;
   for (const auto& [name, value] : expected) {
     const Metric* m = nullptr;
@@ -109,9 +115,10 @@ std::vector<std::pair<std::string, std::string>> names_and_units(const Extension
 
 TEST(ExtensionMetricTable, ChannelSweepsAndMilestones_AreTheDocumentedColumns) {
   using Columns = std::vector<std::pair<std::string, std::string>>;
-  EXPECT_EQ(names_and_units(channel_sweep_metrics()),
-            (Columns{{"final_icn_los", ""}, {"final_icn_measured", ""}, {"sum_rate_nv_los_bps_hz", "bit/s/Hz"},
-                     {"sum_rate_zf_los_bps_hz", "bit/s/Hz"}}));
+  EXPECT_EQ(names_and_units(channel_sweep_metrics()), (Columns{{"final_icn_los", ""},
+                                                               {"final_icn_measured", ""},
+                                                               {"sum_rate_nv_los_bps_hz", "bit/s/Hz"},
+                                                               {"sum_rate_zf_los_bps_hz", "bit/s/Hz"}}));
   EXPECT_EQ(names_and_units(milestone_metrics()),
             (Columns{{"iterations_to_icn050", "iterations"}, {"iterations_to_icn095", "iterations"}}));
   // AND the extra columns of a run with a channel sweep and the milestones: the extension's, then the milestones

@@ -23,7 +23,8 @@ le::ExperimentSettings small(const std::string& extra = "") {
   return le::load_experiment_settings(losmimo::common::IniConfig::from_string(
       "[experiment]\ntrials = " + std::to_string(kTrials) +
       "\nsigma_loc_values_m = 0, 0.18\nsigma_act_values_m = 0.18\nalgorithms = random, gd, bf, ura\n"
-      "[placement]\nmax_iterations = 60\n" + extra));
+      "[placement]\nmax_iterations = 60\n" +
+      extra));
 }
 
 std::string error_of(const std::string& text) {
@@ -47,9 +48,9 @@ TEST(Readings, BadReadings_StopBeforeAnyWorkNamingTheKeyAndTheReading) {
   EXPECT_EQ(error_of("[experiment]\nreadings = a: gd.nope=1\n"),
             "r.ini:2: [experiment] readings: reading 'a': gd.nope: not a placement key (a reading sets [scenario], "
             "[errors], [placement], [gd], [bf] or [ura] keys)");
-  EXPECT_EQ(error_of("[experiment]\nreadings = a: experiment.trials=3\n").find("not a placement key") !=
-                std::string::npos,
-            true);
+  EXPECT_EQ(
+      error_of("[experiment]\nreadings = a: experiment.trials=3\n").find("not a placement key") != std::string::npos,
+      true);
   EXPECT_EQ(error_of("[experiment]\nreadings = a: gd.step=-1\n"),
             "r.ini:2: [experiment] readings: reading 'a': [gd] step: -1: must be > 0");
   EXPECT_EQ(error_of("[experiment]\nreadings = a: gd.step=1 | a: bf.step=1\n"),

@@ -9,7 +9,8 @@
 namespace lp = losmimo::placement;
 
 TEST(PlacementSettings, ShippedPaperIni_IsTheBuiltInDefaultsWith500Trials) {
-  const auto cfg = losmimo::common::IniConfig::from_file(std::string(LOSMIMO_SOURCE_DIR) + "/datasets/configs/paper.ini");
+  const auto cfg =
+      losmimo::common::IniConfig::from_file(std::string(LOSMIMO_SOURCE_DIR) + "/datasets/configs/paper.ini");
   const losmimo::experiment::ExperimentSettings loaded = losmimo::experiment::load_experiment_settings(cfg);
   EXPECT_EQ(lp::to_ini(loaded.placement), lp::to_ini(lp::PlacementSettings{}));
   EXPECT_EQ(loaded.trials, 500);
@@ -20,8 +21,8 @@ TEST(PlacementSettings, ShippedPaperIni_IsTheBuiltInDefaultsWith500Trials) {
 
 TEST(PlacementSettings, ShippedPaperFaithfulIni_IsPaperIniWithTheReadingsChoicesOnly) {
   // GIVEN: the shipped best reading of the paper (docs/fidelity.md).
-  const auto cfg = losmimo::common::IniConfig::from_file(std::string(LOSMIMO_SOURCE_DIR) +
-                                                         "/datasets/configs/paper-faithful.ini");
+  const auto cfg =
+      losmimo::common::IniConfig::from_file(std::string(LOSMIMO_SOURCE_DIR) + "/datasets/configs/paper-faithful.ini");
   const losmimo::experiment::ExperimentSettings loaded = losmimo::experiment::load_experiment_settings(cfg);
   // THEN: it is paper.ini (the defaults, 500 trials) with exactly the reading's choices set.
   losmimo::experiment::ExperimentSettings expected;

@@ -64,15 +64,13 @@ TEST(SolveCentralized, SeededStarts_MeetIcnAndTravelLessThanRigidUra) {
   for (int trial = 0; trial < kNumStarts; ++trial) {
     const Eigen::Matrix3Xd start = placement::random_start_positions_m(scenario, rng);
     const CentralizedResult r = solve_centralized(scenario, start, config);
-    std::cout << "start " << trial << ": " << to_string(r.status) << " from "
-              << to_string(r.best_start) << (r.best_is_raw_ura ? " (raw)" : "") << ", ICN "
-              << r.icn << ", mean travel " << r.travel.mean_m << " m (squared mean "
-              << r.travel.mean_squared_m2 << " m^2), polished " << r.polished << ", solves " << r.num_solves
-              << "\n  lattice URA: ICN " << r.lattice_ura_icn << ", mean travel "
+    std::cout << "start " << trial << ": " << to_string(r.status) << " from " << to_string(r.best_start)
+              << (r.best_is_raw_ura ? " (raw)" : "") << ", ICN " << r.icn << ", mean travel " << r.travel.mean_m
+              << " m (squared mean " << r.travel.mean_squared_m2 << " m^2), polished " << r.polished << ", solves "
+              << r.num_solves << "\n  lattice URA: ICN " << r.lattice_ura_icn << ", mean travel "
               << r.lattice_ura_travel.mean_m << " m (squared " << r.lattice_ura_travel.mean_squared_m2
-              << ")\n  rigid URA:   ICN " << r.rigid_ura_icn << ", mean travel "
-              << r.rigid_ura_travel.mean_m << " m (squared " << r.rigid_ura_travel.mean_squared_m2
-              << ")\n";
+              << ")\n  rigid URA:   ICN " << r.rigid_ura_icn << ", mean travel " << r.rigid_ura_travel.mean_m
+              << " m (squared " << r.rigid_ura_travel.mean_squared_m2 << ")\n";
     ASSERT_EQ(r.status, CentralizedStatus::kFeasible);
     // ICN recomputed from the positions by placement's SVD, independent of the solver.
     EXPECT_GE(placement::inverse_condition_number(model.matrix(r.positions_m)), config.target_icn);
@@ -88,8 +86,7 @@ TEST(SolveCentralized, SeededStarts_MeetIcnAndTravelLessThanRigidUra) {
     // Euclidean travel too: below the rigid URA of placement's own planner (Euclidean assignment).
     placement::UraPlanner rigid(scenario, placement::UraVariant::kRigid);
     rigid.start(swarm);
-    EXPECT_LE((r.positions_m - start).colwise().norm().sum(),
-              (rigid.targets_m() - start).colwise().norm().sum());
+    EXPECT_LE((r.positions_m - start).colwise().norm().sum(), (rigid.targets_m() - start).colwise().norm().sum());
     // The reported travel is that of the reported positions.
     EXPECT_NEAR(r.travel.total_squared_m2, travel2, 1e-9 * travel2);
   }
@@ -126,8 +123,7 @@ TEST(SolveCentralized, UnreachableAlpha_StatusMatchesPositions) {
   std::mt19937_64 rng(43);
   const Eigen::Matrix3Xd start = placement::random_start_positions_m(scenario, rng);
   const CentralizedResult r = solve_centralized(scenario, start, config);
-  std::cout << "alpha " << config.target_icn << ": " << to_string(r.status) << ", ICN " << r.icn
-            << "\n";
+  std::cout << "alpha " << config.target_icn << ": " << to_string(r.status) << ", ICN " << r.icn << "\n";
   if (r.status == CentralizedStatus::kFeasible) {
     EXPECT_GE(placement::inverse_condition_number(model.matrix(r.positions_m)), config.target_icn);
   } else {
@@ -140,8 +136,7 @@ TEST(SolveCentralized, UnreachableAlpha_StatusMatchesPositions) {
 
 TEST(SolveCentralized, WrongStartShape_Throws) {
   const placement::Scenario scenario;
-  EXPECT_THROW(solve_centralized(scenario, Eigen::Matrix3Xd::Zero(3, 5), CentralizedConfig{}),
-               std::invalid_argument);
+  EXPECT_THROW(solve_centralized(scenario, Eigen::Matrix3Xd::Zero(3, 5), CentralizedConfig{}), std::invalid_argument);
 }
 
 }  // namespace

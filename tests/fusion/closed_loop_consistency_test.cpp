@@ -47,9 +47,9 @@ using test_support::paper_settings;
 using test_support::start_positions;
 
 constexpr int kRuns = 100;
-constexpr int kEpochs = 40;                   // iteration cap: epochs 0 .. kEpochs - 1 are localized
-constexpr double kConfidence = 0.99;          // of the per-epoch band
-constexpr double kMinFractionInside = 0.9;    // of the epochs, for a consistent filter
+constexpr int kEpochs = 40;                 // iteration cap: epochs 0 .. kEpochs - 1 are localized
+constexpr double kConfidence = 0.99;        // of the per-epoch band
+constexpr double kMinFractionInside = 0.9;  // of the epochs, for a consistent filter
 constexpr std::uint64_t kFirstStartSeed = 7000;
 constexpr std::uint64_t kFirstRunSeed = 9000;
 constexpr int kStateDim = 3;
@@ -83,8 +83,8 @@ std::vector<EpochVerdict> pooled_nees(const ClosedLoopConfig& config) {
   settings.run.target_icn = kNeverReachedIcn;  // every run localizes all kEpochs epochs
   NeesPerEpoch observer;
   for (int s = 0; s < kRuns; ++s)
-    run_closed_loop(settings, start_positions(settings.scenario, kFirstStartSeed + s), config,
-                    kFirstRunSeed + s, &observer);
+    run_closed_loop(settings, start_positions(settings.scenario, kFirstStartSeed + s), config, kFirstRunSeed + s,
+                    &observer);
   std::vector<EpochVerdict> out;
   for (int k = 0; k < kEpochs; ++k) {
     EpochVerdict v;
@@ -103,13 +103,13 @@ double fraction_inside(const std::vector<EpochVerdict>& verdicts, const std::str
   int inside = 0;
   for (const EpochVerdict& v : verdicts) {
     inside += v.inside;
-    std::cout << "[consistency] " << label << " epoch " << v.epoch << ": NEES " << v.average_nees
-              << " over " << v.samples << " in [" << v.band.low << ", " << v.band.high << "]"
-              << (v.inside ? "" : "  OUTSIDE") << "\n";
+    std::cout << "[consistency] " << label << " epoch " << v.epoch << ": NEES " << v.average_nees << " over "
+              << v.samples << " in [" << v.band.low << ", " << v.band.high << "]" << (v.inside ? "" : "  OUTSIDE")
+              << "\n";
   }
   const double fraction = verdicts.empty() ? 0.0 : static_cast<double>(inside) / verdicts.size();
-  std::cout << "[consistency] " << label << ": " << inside << " of " << verdicts.size()
-            << " epochs inside the " << kConfidence << " band\n";
+  std::cout << "[consistency] " << label << ": " << inside << " of " << verdicts.size() << " epochs inside the "
+            << kConfidence << " band\n";
   return fraction;
 }
 

@@ -30,8 +30,8 @@ struct Outcome {
   ClosedLoopStats stats;
   std::vector<localization::Belief> beliefs;
 };
-Outcome run(const placement::PlacementSettings& settings, const ClosedLoopConfig& config,
-            std::uint64_t seed, ClosedLoopObserver* observer = nullptr) {
+Outcome run(const placement::PlacementSettings& settings, const ClosedLoopConfig& config, std::uint64_t seed,
+            ClosedLoopObserver* observer = nullptr) {
   const placement::ChannelModel model(settings.scenario);
   placement::ErrorModel errors = settings.errors;
   errors.sigma_loc_m = 0.0;
@@ -66,8 +66,7 @@ TEST(ClosedLoopFaults, UavUnresponsiveFromIteration5_EndsTheRunNamingItWithinNPl
   EXPECT_EQ(o.run.iterations, kFrom + kThreshold - 1);
   EXPECT_LE(o.run.iterations, kFrom + kThreshold);
   EXPECT_EQ(o.run.fault_uav, kUav);
-  EXPECT_EQ(o.run.fault,
-            "UAV 4: no measurement and no motion for 3 iterations (since iteration 5) at iteration 7");
+  EXPECT_EQ(o.run.fault, "UAV 4: no measurement and no motion for 3 iterations (since iteration 5) at iteration 7");
   EXPECT_EQ(placement::to_string(o.run.status), "uav_unresponsive");
   // The dead UAV hovered: no motion after iteration 4, and no epoch from it after epoch 3.
   ASSERT_TRUE(recorder.positions_after.count(kFrom - 1));
@@ -95,8 +94,7 @@ TEST(ClosedLoopFaults, UavUnresponsiveFromTheStartWithThreshold1_IsFoundAtIterat
   const Outcome o = run(settings, config, 2);
   EXPECT_EQ(o.run.status, placement::RunStatus::kUavUnresponsive);
   EXPECT_EQ(o.run.iterations, 1);
-  EXPECT_EQ(o.run.fault,
-            "UAV 15: no measurement and no motion for 1 iteration (since iteration 1) at iteration 1");
+  EXPECT_EQ(o.run.fault, "UAV 15: no measurement and no motion for 1 iteration (since iteration 1) at iteration 1");
 }
 
 TEST(ClosedLoopFaults, UavSilentForFewerIterationsThanTheThreshold_IsNotFlagged) {

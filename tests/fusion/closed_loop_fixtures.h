@@ -33,9 +33,7 @@ inline fusion::ClosedLoopConfig nominal_config(const placement::Scenario& scenar
   return fusion::matched_closed_loop_config(localization::SimulatorConfig{}, scenario);
 }
 
-inline bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // Keeps what the observer sees: every epoch, and the true positions after every iteration.
 struct LoopRecorder : fusion::ClosedLoopObserver {

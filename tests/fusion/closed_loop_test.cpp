@@ -27,13 +27,12 @@ void print(const std::string& label, const ClosedLoopRun& r) {
   const ClosedLoopStats& s = r.stats;
   int bf = 0;
   for (int n : s.bf_fallback_iterations) bf += n;
-  std::cout << "[closed_loop] " << label << ": " << placement::to_string(r.run.status) << " in "
-            << r.run.iterations << " it, travel to 0.95 " << r.run.icn095.placement_dist_m
-            << " m; rmse " << s.rmse_m << " m (lateral " << s.lateral_rmse_m << "), filter "
-            << s.filter_rmse_m << " (lateral " << s.filter_lateral_rmse_m << "), beacon-only "
-            << s.beacon_only_rmse_m << " (lateral " << s.beacon_only_lateral_rmse_m
-            << "); NEES " << s.average_nees << " (filter " << s.filter_average_nees
-            << "); BF iterations " << bf << ", escapes " << s.escapes << "\n";
+  std::cout << "[closed_loop] " << label << ": " << placement::to_string(r.run.status) << " in " << r.run.iterations
+            << " it, travel to 0.95 " << r.run.icn095.placement_dist_m << " m; rmse " << s.rmse_m << " m (lateral "
+            << s.lateral_rmse_m << "), filter " << s.filter_rmse_m << " (lateral " << s.filter_lateral_rmse_m
+            << "), beacon-only " << s.beacon_only_rmse_m << " (lateral " << s.beacon_only_lateral_rmse_m << "); NEES "
+            << s.average_nees << " (filter " << s.filter_average_nees << "); BF iterations " << bf << ", escapes "
+            << s.escapes << "\n";
 }
 
 TEST(ClosedLoop, NominalEkf_ConvergesFromMostStartsAndBeatsTheBeaconAlone) {
@@ -44,8 +43,7 @@ TEST(ClosedLoop, NominalEkf_ConvergesFromMostStartsAndBeatsTheBeaconAlone) {
   int converged = 0;
   for (int i = 0; i < kStarts; ++i) {
     // WHEN
-    const ClosedLoopRun r =
-        run_closed_loop(settings, start_positions(settings.scenario, 100 + i), config, 200 + i);
+    const ClosedLoopRun r = run_closed_loop(settings, start_positions(settings.scenario, 100 + i), config, 200 + i);
     print("nominal ekf start " + std::to_string(i), r);
     // THEN: the belief beats a single beacon fix, and nobody needed the fallback.
     if (r.run.converged()) ++converged;
@@ -63,8 +61,7 @@ TEST(ClosedLoop, BeaconRemovedForOneUavFromTheStart_ThatUavRunsBfAndTheRunConver
   constexpr int kLost = 3;
   config.outages.push_back({kLost, {0, 1'000'000}});
   // WHEN
-  const ClosedLoopRun r =
-      run_closed_loop(settings, start_positions(settings.scenario, 100), config, 200);
+  const ClosedLoopRun r = run_closed_loop(settings, start_positions(settings.scenario, 100), config, 200);
   print("one UAV without beacon", r);
   // THEN
   EXPECT_TRUE(r.run.converged());
@@ -86,8 +83,7 @@ TEST(ClosedLoop, BeaconOutageForFourUavsMidMission_TheyFallBackAndReturnToGd) {
   const std::vector<int> lost = {0, 5, 10, 15};
   for (int m : lost) config.outages.push_back({m, {kFirst, kEpochs}});
   // WHEN
-  const ClosedLoopRun r =
-      run_closed_loop(settings, start_positions(settings.scenario, 101), config, 201);
+  const ClosedLoopRun r = run_closed_loop(settings, start_positions(settings.scenario, 101), config, 201);
   print("outage of 4 UAVs", r);
   // THEN: the swarm converges after the outage, so the return to GD is observable.
   ASSERT_TRUE(r.run.converged());
@@ -104,8 +100,7 @@ TEST(ClosedLoop, BeaconOutageForFourUavsMidMission_TheyFallBackAndReturnToGd) {
     EXPECT_LE(r.stats.bf_fallback_iterations[m], kEpochs) << "UAV " << m;
     EXPECT_LE(r.stats.last_fallback_iteration[m], outage_end_iteration) << "UAV " << m;
     for (int it = outage_end_iteration + 1; it <= r.run.iterations; ++it) {
-      EXPECT_EQ(r.stats.mode_trace[it - 1][m], static_cast<char>(UavMode::kGd))
-          << "UAV " << m << " iteration " << it;
+      EXPECT_EQ(r.stats.mode_trace[it - 1][m], static_cast<char>(UavMode::kGd)) << "UAV " << m << " iteration " << it;
     }
   }
 }
@@ -150,8 +145,7 @@ TEST(ClosedLoop, ParticleFilter_ConvergesWithConsistentBeliefs) {
   const placement::PlacementSettings settings = paper_settings(kMaxIterations);
   ClosedLoopConfig config = nominal_config(settings.scenario);
   config.filter_kind = localization::FilterKind::kParticle;
-  const ClosedLoopRun r =
-      run_closed_loop(settings, start_positions(settings.scenario, 102), config, 202);
+  const ClosedLoopRun r = run_closed_loop(settings, start_positions(settings.scenario, 102), config, 202);
   print("nominal pf", r);
   EXPECT_TRUE(r.run.converged());
   EXPECT_LT(r.stats.lateral_rmse_m, r.stats.beacon_only_lateral_rmse_m);
@@ -164,8 +158,7 @@ TEST(ClosedLoop, FallbackOff_TheUavWithoutBeaconNeverRunsBf) {
   ClosedLoopConfig config = nominal_config(settings.scenario);
   config.fallback_to_bf = false;
   config.outages.push_back({3, {0, 1'000'000}});
-  const ClosedLoopRun r =
-      run_closed_loop(settings, start_positions(settings.scenario, 100), config, 200);
+  const ClosedLoopRun r = run_closed_loop(settings, start_positions(settings.scenario, 100), config, 200);
   print("one UAV without beacon, fallback off", r);
   for (int n : r.stats.bf_fallback_iterations) EXPECT_EQ(n, 0);
   EXPECT_EQ(r.stats.gd_iterations[3], r.run.iterations);
@@ -181,8 +174,7 @@ Eigen::Matrix3Xd final_positions(std::uint64_t seed) {
   config.filter.num_particles = 300;
   config.refine = true;
   config.outages.push_back({1, {5, 20}});  // and the BF fallback
-  return run_closed_loop(settings, start_positions(settings.scenario, 103), config, seed)
-      .run.final_m;
+  return run_closed_loop(settings, start_positions(settings.scenario, 103), config, seed).run.final_m;
 }
 
 bool bitwise_equal(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
@@ -230,8 +222,7 @@ TEST(ClosedLoop, BadConfig_ThrowsNamingFieldAndValue) {
   config.refinement.window_epochs = 0;
   EXPECT_NE(message(config).find("window_epochs"), std::string::npos) << message(config);
   EXPECT_THROW(gd_belief_mode_from_string("median"), std::invalid_argument);
-  EXPECT_EQ(gd_belief_mode_from_string(to_string(GdBeliefMode::kSigmaPoints)),
-            GdBeliefMode::kSigmaPoints);
+  EXPECT_EQ(gd_belief_mode_from_string(to_string(GdBeliefMode::kSigmaPoints)), GdBeliefMode::kSigmaPoints);
 }
 
 }  // namespace

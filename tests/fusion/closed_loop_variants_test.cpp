@@ -27,8 +27,8 @@ using test_support::paper_settings;
 using test_support::start_positions;
 
 constexpr int kMaxIterations = 600;
-constexpr int kCheapStarts = 20;     // EKF at the mean and at sigma points (~0.03 s per run)
-constexpr int kCostlyStarts = 8;     // EKF + Ceres and PF (~1 s per run)
+constexpr int kCheapStarts = 20;  // EKF at the mean and at sigma points (~0.03 s per run)
+constexpr int kCostlyStarts = 8;  // EKF + Ceres and PF (~1 s per run)
 constexpr double kSigmaPointGain = 0.1;
 
 struct Variant {
@@ -47,10 +47,10 @@ const Variant kPf{"pf", localization::FilterKind::kParticle, false, GdBeliefMode
 struct Figures {
   int runs = 0;
   int converged = 0;
-  double mean_iterations = 0.0;       // converged runs
-  double lateral_rmse_m = 0.0;        // the beliefs placement used, pooled over runs
-  double filter_lateral_rmse_m = 0.0; // the filter's own beliefs, pooled over runs
-  int runs_below_filter = 0;          // runs whose placement beliefs beat the filter's laterally
+  double mean_iterations = 0.0;        // converged runs
+  double lateral_rmse_m = 0.0;         // the beliefs placement used, pooled over runs
+  double filter_lateral_rmse_m = 0.0;  // the filter's own beliefs, pooled over runs
+  int runs_below_filter = 0;           // runs whose placement beliefs beat the filter's laterally
 };
 
 Figures run_variant(const Variant& v, double sigma_angle_rad, int starts) {
@@ -64,8 +64,7 @@ Figures run_variant(const Variant& v, double sigma_angle_rad, int starts) {
   Figures f;
   double lat2 = 0.0, filter_lat2 = 0.0;
   for (int i = 0; i < starts; ++i) {
-    const ClosedLoopRun r =
-        run_closed_loop(settings, start_positions(settings.scenario, 100 + i), config, 200 + i);
+    const ClosedLoopRun r = run_closed_loop(settings, start_positions(settings.scenario, 100 + i), config, 200 + i);
     ++f.runs;
     if (r.run.converged()) {
       ++f.converged;
@@ -78,10 +77,9 @@ Figures run_variant(const Variant& v, double sigma_angle_rad, int starts) {
   if (f.converged > 0) f.mean_iterations /= f.converged;
   f.lateral_rmse_m = std::sqrt(lat2 / starts);
   f.filter_lateral_rmse_m = std::sqrt(filter_lat2 / starts);
-  std::cout << "[variants] sigma_angle " << sigma_angle_rad << " rad, " << v.name << ": converged "
-            << f.converged << "/" << f.runs << ", mean iterations " << f.mean_iterations
-            << ", lateral RMSE " << f.lateral_rmse_m << " m (filter " << f.filter_lateral_rmse_m
-            << " m)\n";
+  std::cout << "[variants] sigma_angle " << sigma_angle_rad << " rad, " << v.name << ": converged " << f.converged
+            << "/" << f.runs << ", mean iterations " << f.mean_iterations << ", lateral RMSE " << f.lateral_rmse_m
+            << " m (filter " << f.filter_lateral_rmse_m << " m)\n";
   return f;
 }
 

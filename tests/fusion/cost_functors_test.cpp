@@ -82,8 +82,7 @@ TEST(HandResiduals, Beacon_RangeAzimuthElevationOverTheirSigmas) {
   // The elevation wraps too: measured 1.2 - 2 pi = -5.083185307179586 rad is the same
   // direction; 1.176005207095135 + 5.083185307179586 = 6.259190514274721, wrapped
   // 6.259190514274721 - 2 pi = -0.0239947929048649: the same residuals.
-  const std::unique_ptr<ceres::CostFunction> wrapped(
-      BeaconCost::Create(12.5, 0.9, -5.083185307179586, 0.25, 0.01));
+  const std::unique_ptr<ceres::CostFunction> wrapped(BeaconCost::Create(12.5, 0.9, -5.083185307179586, 0.25, 0.01));
   EXPECT_LT(hand_mismatch(*wrapped, {q_m.data()}, expected), kHandTolerance);
 }
 
@@ -131,8 +130,7 @@ TEST(HandResiduals, PosePrior_YawDifferenceWrapped) {
   const Eigen::Matrix4d cov = Eigen::Vector4d(0.25, 4.0, 1.0, 0.01).asDiagonal();
   const std::unique_ptr<ceres::CostFunction> cost(PosePriorCost::Create(mean, cov));
   const Eigen::Vector4d pose(1.5, 0.0, 3.25, -3.0);
-  EXPECT_LT(hand_mismatch(*cost, {pose.data()}, Eigen::Vector4d(1.0, -1.0, 0.25, 2.8318530717958623)),
-            kHandTolerance);
+  EXPECT_LT(hand_mismatch(*cost, {pose.data()}, Eigen::Vector4d(1.0, -1.0, 0.25, 2.8318530717958623)), kHandTolerance);
 }
 
 TEST(HandResiduals, Odometry_DisplacementInTheFrameOfA) {
@@ -181,8 +179,7 @@ TEST(PositionPriorCost, Jacobian_MatchesNumericAtRandomPoints) {
     Eigen::Matrix3d A;
     for (int k = 0; k < 9; ++k) A(k) = n01(rng);
     const Eigen::Matrix3d cov = A * A.transpose() + 0.01 * Eigen::Matrix3d::Identity();
-    const std::unique_ptr<ceres::CostFunction> cost(
-        PositionPriorCost::Create(random_uav_position(rng), cov));
+    const std::unique_ptr<ceres::CostFunction> cost(PositionPriorCost::Create(random_uav_position(rng), cov));
     Eigen::Vector3d q = random_uav_position(rng);
     std::string log;
     EXPECT_TRUE(probe(*cost, {q.data()}, &log)) << log;
@@ -211,9 +208,9 @@ TEST(BeaconCost, Jacobian_MatchesNumericAtRandomPoints) {
   std::mt19937_64 rng(22);
   for (int i = 0; i < kNumPoints; ++i) {
     const Eigen::Vector3d q_meas = random_uav_position(rng);
-    const std::unique_ptr<ceres::CostFunction> cost(BeaconCost::Create(
-        q_meas.norm(), std::atan2(q_meas.y(), q_meas.x()),
-        std::atan2(q_meas.z(), q_meas.head<2>().norm()), 0.5, 1.8e-4));
+    const std::unique_ptr<ceres::CostFunction> cost(
+        BeaconCost::Create(q_meas.norm(), std::atan2(q_meas.y(), q_meas.x()),
+                           std::atan2(q_meas.z(), q_meas.head<2>().norm()), 0.5, 1.8e-4));
     Eigen::Vector3d q = q_meas + Eigen::Vector3d(0.3, -0.2, 0.1);
     std::string log;
     EXPECT_TRUE(probe(*cost, {q.data()}, &log)) << log;
@@ -224,8 +221,7 @@ TEST(BeaconCost, AzimuthAcrossTheCut_ResidualIsWrapped) {
   // A UAV behind the array near azimuth +-pi: measured -pi + 1e-4, true +pi - 1e-4.
   const double az_true = M_PI - 1e-4;
   const Eigen::Vector3d q(100.0 * std::cos(az_true), 100.0 * std::sin(az_true), 0.0);
-  const std::unique_ptr<ceres::CostFunction> cost(
-      BeaconCost::Create(100.0, -M_PI + 1e-4, 0.0, 1.0, 1e-3));
+  const std::unique_ptr<ceres::CostFunction> cost(BeaconCost::Create(100.0, -M_PI + 1e-4, 0.0, 1.0, 1e-3));
   Eigen::Vector3d r;
   const std::vector<const double*> blocks = {q.data()};
   ASSERT_TRUE(cost->Evaluate(blocks.data(), r.data(), nullptr));
@@ -258,8 +254,8 @@ TEST(CsiPhaseCost, Jacobian_MatchesNumericAtRandomPoints) {
   for (int i = 0; i < kNumPoints; ++i) {
     const Eigen::Vector3d q_true = random_uav_position(rng);
     const CsiMeasurement c = simulate_csi(model, q_true, kNoiseVariance, rng);
-    const std::unique_ptr<ceres::CostFunction> cost(CsiPhaseCost::Create(
-        phases_of(c), model.antennas_m(), model.wavenumber_rad_per_m(), sigma));
+    const std::unique_ptr<ceres::CostFunction> cost(
+        CsiPhaseCost::Create(phases_of(c), model.antennas_m(), model.wavenumber_rad_per_m(), sigma));
     // Near the truth (the residuals stay away from the wrap cut).
     Eigen::Vector3d q = q_true + Eigen::Vector3d(0.5, 0.1, -0.1);
     double psi = csi_reference_phase_rad(model, c, q);
@@ -276,8 +272,8 @@ TEST(CsiPhaseCost, Residual_MatchesChannelModelPhases) {
   const Eigen::Vector3d q_true = random_uav_position(rng);
   const CsiMeasurement c = simulate_csi(model, q_true, kNoiseVariance, rng);
   const double sigma = csi_phase_sigma_rad(kNoiseVariance);
-  const std::unique_ptr<ceres::CostFunction> cost(CsiPhaseCost::Create(
-      phases_of(c), model.antennas_m(), model.wavenumber_rad_per_m(), sigma));
+  const std::unique_ptr<ceres::CostFunction> cost(
+      CsiPhaseCost::Create(phases_of(c), model.antennas_m(), model.wavenumber_rad_per_m(), sigma));
   const Eigen::Vector3d q = q_true + Eigen::Vector3d(0.2, 0.4, -0.3);
   const double psi = 0.7;
   Eigen::VectorXd r(model.num_antennas());
@@ -292,8 +288,7 @@ TEST(CsiPhaseCost, Residual_MatchesChannelModelPhases) {
 }
 
 // Central differences of a scalar function of the stacked positions.
-Eigen::Matrix3Xd numeric_gradient(const placement::ChannelModel& model,
-                                  const Eigen::Matrix3Xd& start, double mu,
+Eigen::Matrix3Xd numeric_gradient(const placement::ChannelModel& model, const Eigen::Matrix3Xd& start, double mu,
                                   const Eigen::Matrix3Xd& q, double step_m) {
   Eigen::Matrix3Xd g(3, q.cols());
   for (Eigen::Index i = 0; i < q.size(); ++i) {
@@ -301,7 +296,8 @@ Eigen::Matrix3Xd numeric_gradient(const placement::ChannelModel& model,
     plus(i) += step_m;
     minus(i) -= step_m;
     g(i) = (penalized_travel_cost(model, start, mu, plus, nullptr) -
-            penalized_travel_cost(model, start, mu, minus, nullptr)) / (2.0 * step_m);
+            penalized_travel_cost(model, start, mu, minus, nullptr)) /
+           (2.0 * step_m);
   }
   return g;
 }
@@ -318,12 +314,10 @@ TEST(PenalizedTravelCost, ValueAndGradient_MatchIndependentComputation) {
     Eigen::Matrix3Xd grad;
     const double cost = penalized_travel_cost(model, start, kMu, q, &grad);
     // Value: travel + mu f with f from the full recompute in placement/metrics.h.
-    const double expected =
-        (q - start).squaredNorm() + kMu * placement::objective(model.matrix(q));
+    const double expected = (q - start).squaredNorm() + kMu * placement::objective(model.matrix(q));
     EXPECT_NEAR(cost, expected, 1e-8 * expected);
     const Eigen::Matrix3Xd numeric = numeric_gradient(model, start, kMu, q, kStep_m);
-    EXPECT_LT((grad - numeric).norm(), 1e-5 * numeric.norm())
-        << "analytic\n" << grad << "\nnumeric\n" << numeric;
+    EXPECT_LT((grad - numeric).norm(), 1e-5 * numeric.norm()) << "analytic\n" << grad << "\nnumeric\n" << numeric;
   }
 }
 
@@ -360,8 +354,7 @@ TEST(BarrierTravelCost, ValueAndGradient_MatchIndependentComputation) {
                     barrier_travel_cost(model, start, kAlpha, kT_m2, minus, nullptr)) /
                    (2.0 * kStep_m);
     }
-    EXPECT_LT((grad - numeric).norm(), 1e-5 * numeric.norm())
-        << "analytic\n" << grad << "\nnumeric\n" << numeric;
+    EXPECT_LT((grad - numeric).norm(), 1e-5 * numeric.norm()) << "analytic\n" << grad << "\nnumeric\n" << numeric;
   }
 }
 

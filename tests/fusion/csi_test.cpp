@@ -59,8 +59,7 @@ TEST(SimulateCsi, Noise_HasTheScenarioVariancePerEntry) {
 TEST(SimulateCsi, NegativeNoiseVariance_Throws) {
   const placement::ChannelModel model(default_scenario());
   std::mt19937_64 rng(1);
-  EXPECT_THROW(simulate_csi(model, Eigen::Vector3d(1000.0, 0.0, 0.0), -0.1, rng),
-               std::invalid_argument);
+  EXPECT_THROW(simulate_csi(model, Eigen::Vector3d(1000.0, 0.0, 0.0), -0.1, rng), std::invalid_argument);
 }
 
 TEST(CsiPathDifference, MatchesLongDoubleDirectDifference) {
@@ -102,10 +101,9 @@ TEST(CsiPhase, LateralMotion_TurnsEdgeToEdgePhaseAboutOneRadianPerMetre) {
     const Eigen::VectorXd delta = csi_path_difference_m(model, q);
     return -model.wavenumber_rad_per_m() * (delta(right) - delta(left));
   };
-  const double per_m_lateral = std::abs(edge_phase(q_m + Eigen::Vector3d(0.0, 0.1, 0.0)) -
-                                        edge_phase(q_m)) / 0.1;
-  const double per_m_depth = std::abs(edge_phase(q_m + Eigen::Vector3d(1.0, 5.0, 0.0)) -
-                                      edge_phase(q_m + Eigen::Vector3d(0.0, 5.0, 0.0)));
+  const double per_m_lateral = std::abs(edge_phase(q_m + Eigen::Vector3d(0.0, 0.1, 0.0)) - edge_phase(q_m)) / 0.1;
+  const double per_m_depth =
+      std::abs(edge_phase(q_m + Eigen::Vector3d(1.0, 5.0, 0.0)) - edge_phase(q_m + Eigen::Vector3d(0.0, 5.0, 0.0)));
   EXPECT_NEAR(per_m_lateral, 0.94, 0.02);
   EXPECT_LT(per_m_depth, 0.01);
 }

@@ -80,8 +80,8 @@ TEST(UavEstimator, Beliefs_AreTheFiltersDrivenByHand_BitForBit) {
   std::normal_distribution<double> n(0.0, 0.05);
   Eigen::Vector3d q(1000.0, 3.0, -2.0);
   const localization::BeaconMeasurement z0 = beacon_at(q);
-  const localization::Belief fix = localization::beacon_fix(z0, config.filter.noise.sigma_range_m,
-                                                            config.filter.noise.sigma_angle_rad);
+  const localization::Belief fix =
+      localization::beacon_fix(z0, config.filter.noise.sigma_range_m, config.filter.noise.sigma_angle_rad);
   auto by_hand = localization::make_filter(config.filter_kind, config.filter, fix, 99);
   uav.start({std::nullopt, z0, {}});
   for (int k = 1; k <= 20; ++k) {

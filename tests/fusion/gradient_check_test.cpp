@@ -21,8 +21,7 @@ using test_support::probe;
 // position Jacobian, the kind of mistake the checker exists to catch.
 class AnalyticCsiCost final : public ceres::CostFunction {
  public:
-  AnalyticCsiCost(const Eigen::VectorXd& phase, const placement::ChannelModel& model, double sigma,
-                  bool bug)
+  AnalyticCsiCost(const Eigen::VectorXd& phase, const placement::ChannelModel& model, double sigma, bool bug)
       : functor_(phase, model.antennas_m(), model.wavenumber_rad_per_m(), sigma),
         antennas_m_(model.antennas_m()),
         kappa_(model.wavenumber_rad_per_m()),
@@ -31,8 +30,7 @@ class AnalyticCsiCost final : public ceres::CostFunction {
     set_num_residuals(static_cast<int>(phase.size()));
     mutable_parameter_block_sizes()->assign({3, 1});
   }
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override {
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     functor_(parameters[0], parameters[1], residuals);
     if (jacobians == nullptr) return true;
     const Eigen::Map<const Eigen::Vector3d> q(parameters[0]);

@@ -26,8 +26,7 @@ inline constexpr double kJacobianTol = 1e-6;
 using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 // True when every block's Jacobian matches central differences; log explains a mismatch.
-inline bool probe(const ceres::CostFunction& cost, const std::vector<double*>& blocks,
-                  std::string* log = nullptr) {
+inline bool probe(const ceres::CostFunction& cost, const std::vector<double*>& blocks, std::string* log = nullptr) {
   const int num_residuals = cost.num_residuals();
   const std::vector<int32_t>& sizes = cost.parameter_block_sizes();
   std::vector<RowMajorMatrix> J(sizes.size());
@@ -61,7 +60,8 @@ inline bool probe(const ceres::CostFunction& cost, const std::vector<double*>& b
     if (!(error <= kJacobianTol * scale)) {
       ok = false;
       out << "block " << b << ": max error " << error << " (scale " << scale << ")\nuser\n"
-          << J[b] << "\nnumeric\n" << numeric << "\n";
+          << J[b] << "\nnumeric\n"
+          << numeric << "\n";
     }
   }
   if (log != nullptr) *log = out.str();

@@ -58,7 +58,8 @@ TEST(PoseCostFunctors, AutodiffJacobians_MatchCentralDifferences) {
     EXPECT_TRUE(probe(*range, {b.data()}, &log)) << "range, point " << t << ": " << log;
     const std::unique_ptr<ceres::CostFunction> odometry(OdometryCost::Create(u, random_spd(rng)));
     EXPECT_TRUE(probe(*odometry, {a.data(), b.data()}, &log)) << "odometry, point " << t << ": " << log;
-    const std::unique_ptr<ceres::CostFunction> prior(PosePriorCost::Create(b + Eigen::Vector4d::Constant(0.1), random_spd(rng)));
+    const std::unique_ptr<ceres::CostFunction> prior(
+        PosePriorCost::Create(b + Eigen::Vector4d::Constant(0.1), random_spd(rng)));
     EXPECT_TRUE(probe(*prior, {a.data()}, &log)) << "prior, point " << t << ": " << log;
   }
 }
@@ -210,7 +211,8 @@ TEST(ChainMarginals, BlockTridiagonal_MatchTheDenseInverse) {
   const Eigen::MatrixXd H_inv = H.inverse();
   for (int i = 0; i < kPoses; ++i) {
     const Eigen::Matrix4d expected = H_inv.block<4, 4>(4 * i, 4 * i);
-    EXPECT_LT(((*C)[static_cast<std::size_t>(i)] - expected).cwiseAbs().maxCoeff(), 1e-9 * expected.cwiseAbs().maxCoeff())
+    EXPECT_LT(((*C)[static_cast<std::size_t>(i)] - expected).cwiseAbs().maxCoeff(),
+              1e-9 * expected.cwiseAbs().maxCoeff())
         << "pose " << i;
   }
   // AND: a singular chain (pose 3 unobserved in yaw) is refused, not inverted.

@@ -16,7 +16,7 @@ namespace losmimo::fusion {
 namespace {
 
 constexpr int kRuns = 200;
-constexpr int kEpochs = 12;       // per run; the refiner keeps the last W = 5
+constexpr int kEpochs = 12;  // per run; the refiner keeps the last W = 5
 constexpr double kZ975 = 1.959963985;
 
 double chi2_quantile(double k, double z) {  // Wilson-Hilferty, see refinement_test.cpp
@@ -56,13 +56,11 @@ TEST(RefinementOnEkf, LargestBeaconNoise_CsiCutsLateralRmseOfTheFilterAndStaysCo
     ASSERT_TRUE(z0.has_value());
     const localization::Belief initial =
         localization::beacon_fix(*z0, sim_config.sigma_range_m, sim_config.sigma_angle_rad);
-    const auto ekf = localization::make_filter(localization::FilterKind::kEkf, filter_config,
-                                               initial, 7);
+    const auto ekf = localization::make_filter(localization::FilterKind::kEkf, filter_config, initial, 7);
     SlidingWindowRefiner refiner(scenario, config);
     refiner.add_epoch({initial, std::nullopt, z0, {simulate_csi(model, q, scenario.noise_variance(), rng)}});
     for (int k = 1; k < kEpochs; ++k) {
-      const Eigen::Vector3d d =
-          step_len(rng) * Eigen::Vector3d(n01(rng), n01(rng), n01(rng)).normalized();
+      const Eigen::Vector3d d = step_len(rng) * Eigen::Vector3d(n01(rng), n01(rng), n01(rng)).normalized();
       q += d;
       const Eigen::Vector3d d_meas = sim.measure_displacement(d);
       const std::optional<localization::BeaconMeasurement> z = sim.measure_beacon(q, k);
@@ -84,9 +82,9 @@ TEST(RefinementOnEkf, LargestBeaconNoise_CsiCutsLateralRmseOfTheFilterAndStaysCo
   nees_refined /= kRuns;
   const double low = chi2_quantile(3.0 * kRuns, -kZ975) / kRuns;
   const double high = chi2_quantile(3.0 * kRuns, kZ975) / kRuns;
-  std::cout << "lateral RMSE per axis [m]: EKF " << rmse_ekf << ", EKF + CSI refinement "
-            << rmse_refined << "\naverage NEES: EKF " << nees_ekf << ", refined " << nees_refined
-            << " (95% band [" << low << ", " << high << "])\n";
+  std::cout << "lateral RMSE per axis [m]: EKF " << rmse_ekf << ", EKF + CSI refinement " << rmse_refined
+            << "\naverage NEES: EKF " << nees_ekf << ", refined " << nees_refined << " (95% band [" << low << ", "
+            << high << "])\n";
   // THEN: CSI cuts the filter's lateral error and the refined covariance is consistent.
   // Expected ratio, from the information alone: the EKF's lateral variance after 12 beacons
   // (~0.065^2 m^2) fused with five CSI rows (~0.16 m each per axis, csi.h) is ~0.74 of its RMSE.

@@ -225,8 +225,8 @@ MonteCarlo run_monte_carlo(std::uint64_t seed) {
     const RefinementResult r_csi = refine_window(model, with_csi, w.epochs);
     seconds_csi += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const RefinementResult r_no = refine_window(model, without_csi, w.epochs);
-    mc.fallbacks += (r_csi.covariance_source != CovarianceSource::kCeres) +
-                    (r_no.covariance_source != CovarianceSource::kCeres);
+    mc.fallbacks +=
+        (r_csi.covariance_source != CovarianceSource::kCeres) + (r_no.covariance_source != CovarianceSource::kCeres);
     mc.rmse_dr_m += lateral_sq(dr, truth);
     mc.rmse_no_csi_m += lateral_sq(r_no.belief.mean_m, truth);
     mc.rmse_csi_m += lateral_sq(r_csi.belief.mean_m, truth);
@@ -248,10 +248,10 @@ TEST(RefineWindow, SeededScenario_CsiReducesLateralRmseAndStaysConsistent) {
   // GIVEN: 1 km, 60 GHz, 4x4 BS at 0.25 m, SNR 10 dB, W = 5, prior 0.15 m lateral, beacon
   // 0.18 m cross-range.
   const MonteCarlo mc = run_monte_carlo(35);
-  std::cout << "lateral RMSE per axis [m]: dead reckoning " << mc.rmse_dr_m << ", no CSI "
-            << mc.rmse_no_csi_m << ", with CSI " << mc.rmse_csi_m << "\naverage NEES (3 dof): no CSI "
-            << mc.nees_no_csi << ", with CSI " << mc.nees_csi << " (95% band [" << kNeesLow << ", "
-            << kNeesHigh << "])\nrefinement with CSI: " << mc.us_per_call_csi << " us per call\n";
+  std::cout << "lateral RMSE per axis [m]: dead reckoning " << mc.rmse_dr_m << ", no CSI " << mc.rmse_no_csi_m
+            << ", with CSI " << mc.rmse_csi_m << "\naverage NEES (3 dof): no CSI " << mc.nees_no_csi << ", with CSI "
+            << mc.nees_csi << " (95% band [" << kNeesLow << ", " << kNeesHigh
+            << "])\nrefinement with CSI: " << mc.us_per_call_csi << " us per call\n";
   // THEN: CSI beats both the prior carried forward and the beacon + DR refinement, clearly.
   EXPECT_EQ(mc.fallbacks, 0);
   EXPECT_LT(mc.rmse_csi_m, 0.85 * mc.rmse_no_csi_m);

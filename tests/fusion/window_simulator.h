@@ -49,14 +49,12 @@ inline DrawnWindow draw_window(const placement::ChannelModel& model, const fusio
     if (i > 0) {
       const Eigen::Vector3d d = q - w.truth_m.col(i - 1);
       const double sigma = config.dr_sigma_floor_m + config.dr_sigma_fraction * d.norm();
-      e.displacement_m =
-          d + noise_scale * sigma * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
+      e.displacement_m = d + noise_scale * sigma * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
     }
     localization::BeaconMeasurement z;
     z.range_m = q.norm() + noise_scale * config.beacon_sigma_range_m * n01(rng);
     z.azimuth_rad = std::atan2(q.y(), q.x()) + noise_scale * config.beacon_sigma_angle_rad * n01(rng);
-    z.elevation_rad = std::atan2(q.z(), q.head<2>().norm()) +
-                      noise_scale * config.beacon_sigma_angle_rad * n01(rng);
+    z.elevation_rad = std::atan2(q.z(), q.head<2>().norm()) + noise_scale * config.beacon_sigma_angle_rad * n01(rng);
     e.beacon = z;
     e.csi.push_back(fusion::simulate_csi(model, q, noise_scale * noise_scale * config.csi_noise_variance, rng));
     w.epochs.push_back(e);

@@ -37,8 +37,7 @@ void load_all(const losmimo::common::IniConfig& cfg) {
   try {
     const lp::PlacementSettings p = lp::load_placement_settings(cfg);
     check_usable(p.scenario);
-  } catch (const losmimo::common::InputError&) {
-  }
+  } catch (const losmimo::common::InputError&) {}
   try {
     const losmimo::experiment::ExperimentSettings s = losmimo::experiment::load_experiment_settings(cfg);
     check_usable(s.placement.scenario);
@@ -46,8 +45,7 @@ void load_all(const losmimo::common::IniConfig& cfg) {
     const losmimo::experiment::ExperimentSettings again =
         losmimo::experiment::load_experiment_settings(losmimo::common::IniConfig::from_string(ini, "<to_ini>"));
     require(losmimo::experiment::to_ini(again) == ini);
-  } catch (const losmimo::common::InputError&) {
-  }
+  } catch (const losmimo::common::InputError&) {}
 }
 }  // namespace
 
@@ -58,16 +56,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     (void)cfg.to_string();
     try {
       cfg.require_known(lp::placement_config_keys());
-    } catch (const losmimo::common::InputError&) {
-    }
+    } catch (const losmimo::common::InputError&) {}
     load_all(cfg);
-  } catch (const losmimo::common::InputError&) {
-  }
+  } catch (const losmimo::common::InputError&) {}
   try {
     losmimo::common::IniConfig cfg;
     cfg.set_override(text.substr(0, text.find('\n')));
     load_all(cfg);
-  } catch (const losmimo::common::InputError&) {
-  }
+  } catch (const losmimo::common::InputError&) {}
   return 0;
 }

@@ -46,8 +46,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const Eigen::Matrix3Xd q = lp::parse_positions_csv(in, "<fuzz>", kMaxRows);
     require(q.cols() >= 1 && q.cols() <= kMaxRows && q.allFinite());
     parsed = true;
-  } catch (const losmimo::common::InputError&) {
-  }
+  } catch (const losmimo::common::InputError&) {}
 
   {
     std::ofstream f(scratch_path(), std::ios::binary | std::ios::trunc);

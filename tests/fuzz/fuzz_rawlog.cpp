@@ -56,8 +56,7 @@ void interpret(const std::string& bytes, const io::RawlogReaderOptions& options)
     const lr::MissionLog log = lr::load_mission_log(reader);
     require(log.read_status.stop != io::RawlogStop::kNone);
     (void)log.stop_description();
-  } catch (const losmimo::common::InputError&) {
-  }
+  } catch (const losmimo::common::InputError&) {}
 }
 }  // namespace
 

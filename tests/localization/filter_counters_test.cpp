@@ -12,14 +12,25 @@ namespace {
 // Every field of FilterCounters, in declaration order. A new field must be added here and to
 // operator+=; the size check below fails until it is.
 std::vector<std::int64_t FilterCounters::*> all_fields() {
-  return {&FilterCounters::epochs, &FilterCounters::beacons_received, &FilterCounters::beacons_fused,
-          &FilterCounters::rejected_non_finite_displacement, &FilterCounters::rejected_non_finite_beacon,
-          &FilterCounters::rejected_out_of_range_beacon, &FilterCounters::rejected_geometry,
-          &FilterCounters::rejected_gate, &FilterCounters::resets, &FilterCounters::covariance_repairs,
-          &FilterCounters::resamplings, &FilterCounters::non_finite_state, &FilterCounters::ranges_received,
-          &FilterCounters::ranges_fused, &FilterCounters::rejected_non_finite_range,
-          &FilterCounters::rejected_unknown_beacon, &FilterCounters::rejected_outside_sensor_limits,
-          &FilterCounters::rejected_implausible_range, &FilterCounters::rejected_range_geometry,
+  return {&FilterCounters::epochs,
+          &FilterCounters::beacons_received,
+          &FilterCounters::beacons_fused,
+          &FilterCounters::rejected_non_finite_displacement,
+          &FilterCounters::rejected_non_finite_beacon,
+          &FilterCounters::rejected_out_of_range_beacon,
+          &FilterCounters::rejected_geometry,
+          &FilterCounters::rejected_gate,
+          &FilterCounters::resets,
+          &FilterCounters::covariance_repairs,
+          &FilterCounters::resamplings,
+          &FilterCounters::non_finite_state,
+          &FilterCounters::ranges_received,
+          &FilterCounters::ranges_fused,
+          &FilterCounters::rejected_non_finite_range,
+          &FilterCounters::rejected_unknown_beacon,
+          &FilterCounters::rejected_outside_sensor_limits,
+          &FilterCounters::rejected_implausible_range,
+          &FilterCounters::rejected_range_geometry,
           &FilterCounters::rejected_range_gate};
 }
 

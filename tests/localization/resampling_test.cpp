@@ -12,9 +12,8 @@
 namespace losmimo::localization {
 namespace {
 
-const std::vector<ResamplingMethod> kAllMethods = {
-    ResamplingMethod::kMultinomial, ResamplingMethod::kResidual, ResamplingMethod::kStratified,
-    ResamplingMethod::kSystematic};
+const std::vector<ResamplingMethod> kAllMethods = {ResamplingMethod::kMultinomial, ResamplingMethod::kResidual,
+                                                   ResamplingMethod::kStratified, ResamplingMethod::kSystematic};
 
 std::vector<double> log_of(const std::vector<double>& w) {
   std::vector<double> out;
@@ -68,10 +67,8 @@ TEST(Resampling, SystematicAndResidual_CopiesBracketNTimesWeight) {
   const double n = static_cast<double>(w.size());
   mrpt::random::CRandomGenerator rng(3);
   for (int r = 0; r < 200; ++r) {
-    const auto sys = copies(resampling_indices(ResamplingMethod::kSystematic, log_of(w), rng),
-                            w.size());
-    const auto res = copies(resampling_indices(ResamplingMethod::kResidual, log_of(w), rng),
-                            w.size());
+    const auto sys = copies(resampling_indices(ResamplingMethod::kSystematic, log_of(w), rng), w.size());
+    const auto res = copies(resampling_indices(ResamplingMethod::kResidual, log_of(w), rng), w.size());
     for (std::size_t i = 0; i < w.size(); ++i) {
       EXPECT_GE(sys[i], std::floor(n * w[i] - 1e-9));
       EXPECT_LE(sys[i], std::ceil(n * w[i] + 1e-9));

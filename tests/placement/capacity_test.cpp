@@ -58,9 +58,9 @@ double reference_capacity(const Eigen::MatrixXcd& H, double noise_variance, lp::
 }
 
 struct GradientCheck {
-  double error = 0.0;           // |analytic - numeric| / |numeric|
-  double error_half = 0.0;      // the negative controls: the factor 2 of 2 Re dropped,
-  double error_flipped = 0.0;   // the sign flipped (descent instead of ascent)
+  double error = 0.0;          // |analytic - numeric| / |numeric|
+  double error_half = 0.0;     // the negative controls: the factor 2 of 2 Re dropped,
+  double error_flipped = 0.0;  // the sign flipped (descent instead of ascent)
 };
 
 GradientCheck check_gradient(const lp::Scenario& s, const Eigen::Matrix3Xd& q, int m, lp::CapPower power) {
@@ -133,9 +133,10 @@ TEST(CapacityGradient, RandomAndNearDegeneratePoints_MatchCentralDifferencesOfFu
       }
     }
   }
-  std::printf("capacity gradient: %d checks, max relative error %.2e; negative controls: halved >= %.3f, "
-              "flipped >= %.3f\n",
-              checks, worst, best_half, best_flipped);
+  std::printf(
+      "capacity gradient: %d checks, max relative error %.2e; negative controls: halved >= %.3f, "
+      "flipped >= %.3f\n",
+      checks, worst, best_half, best_flipped);
 }
 
 TEST(CapacityGradient, NearOrthogonalRows_MatchCentralDifferences) {
@@ -148,7 +149,8 @@ TEST(CapacityGradient, NearOrthogonalRows_MatchCentralDifferences) {
     std::mt19937_64 rng(7);
     std::normal_distribution<double> jitter(0.0, 0.05);
     for (int i = 0; i < 16; ++i) {
-      q.col(i) = Eigen::Vector3d(s.range_m(), (i % 4 - 1.5) * slot_m + jitter(rng), (i / 4 - 1.5) * slot_m + jitter(rng));
+      q.col(i) =
+          Eigen::Vector3d(s.range_m(), (i % 4 - 1.5) * slot_m + jitter(rng), (i / 4 - 1.5) * slot_m + jitter(rng));
     }
     EXPECT_GT(lp::inverse_condition_number(lp::ChannelModel(s).matrix(q)), 0.8);
     for (const int m : {0, 5, 15}) {
@@ -203,7 +205,8 @@ TEST(CapacityPlanner, SmallSwarm_NeverDecreasesCapacityPerAcceptedStep) {
       for (int iteration = 1; iteration <= 30; ++iteration) {
         for (int m = 0; m < swarm.num_uavs(); ++m) {
           // WHEN: each UAV takes its step
-          swarm.move(m, planner.plan_step(swarm, m, swarm.true_positions_m().col(m), options.step), lp::MotionKind::kPlacement);
+          swarm.move(m, planner.plan_step(swarm, m, swarm.true_positions_m().col(m), options.step),
+                     lp::MotionKind::kPlacement);
           // THEN: the capacity does not decrease
           const double after = lp::capacity_bps_hz(swarm.channel().H(), s.noise_variance(), power);
           ASSERT_GE(after, c - 1e-9 * c) << "seed " << seed << " iteration " << iteration << " UAV " << m;

@@ -217,7 +217,9 @@ TEST(ChannelConditionsRun, ConditionsOff_GiveTodaysRunsBitForBit) {
       lp::GradientDescentPlanner gd(s, {});
       lp::BruteForcePlanner bf(s, {});
       lp::UraPlanner ura(s, lp::UraVariant::kLattice);
-      lp::Planner& p = algorithm == 0 ? static_cast<lp::Planner&>(gd) : algorithm == 1 ? static_cast<lp::Planner&>(bf) : ura;
+      lp::Planner& p = algorithm == 0   ? static_cast<lp::Planner&>(gd)
+                       : algorithm == 1 ? static_cast<lp::Planner&>(bf)
+                                        : ura;
       results.push_back(lp::run_placement(p, swarm, run));
     }
     // THEN positions, distances and the trace are the same bits

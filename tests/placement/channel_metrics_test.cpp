@@ -26,8 +26,7 @@ TEST(ChannelModel, Row_MatchesTheClosedFormOfEquation1) {
   const double lambda = s.wavelength_m();
   for (int k = 0; k < s.num_bs_antennas(); ++k) {
     const double d = (q - p.col(k)).norm();
-    const std::complex<double> h =
-        lambda / (4 * M_PI * d) * std::exp(std::complex<double>(0, -2 * M_PI * d / lambda));
+    const std::complex<double> h = lambda / (4 * M_PI * d) * std::exp(std::complex<double>(0, -2 * M_PI * d / lambda));
     // THEN: x = h / g_R
     EXPECT_NEAR(std::abs(x(k) * s.reference_gain() - h) / std::abs(h), 0.0, 1e-9) << k;
   }

@@ -40,7 +40,8 @@ TEST(UavsByRedundancy, OrdersByTheSmallestLeftSingularVector) {
       EXPECT_EQ(std::set<int>(order.begin(), order.end()).size(), order.size());
       // THEN the weights of the SVD's vector do not increase along the order (ties to 1e-9)
       for (std::size_t i = 1; i < order.size(); ++i) {
-        EXPECT_GE(weight(order[i - 1]), weight(order[i]) - 1e-9) << "side " << side << " seed " << seed << " rank " << i;
+        EXPECT_GE(weight(order[i - 1]), weight(order[i]) - 1e-9)
+            << "side " << side << " seed " << seed << " rank " << i;
       }
     }
   }

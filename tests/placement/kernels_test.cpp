@@ -24,8 +24,8 @@ constexpr double kEps = 2.220446049250313e-16;
 struct KernelInputs {
   std::vector<double> ax, ay, az, valid;
   lk::RowGeometry geometry;
-  std::vector<double> gr, gi;         // G, split planes (ld x n)
-  std::vector<double> hr, hi;         // the rows, one per UAV, each ld long
+  std::vector<double> gr, gi;  // G, split planes (ld x n)
+  std::vector<double> hr, hi;  // the rows, one per UAV, each ld long
   int nr = 0;
   lk::GramPlanes gram() const { return {geometry.nt, geometry.ld, gr.data(), gi.data()}; }
   const double* row_re(int m) const { return hr.data() + m * geometry.ld; }
@@ -51,8 +51,15 @@ KernelInputs make_inputs(int rows, int cols, bool exact_gain, std::uint64_t seed
     out.az[k] = p(2, k);
     out.valid[k] = 1.0;
   }
-  out.geometry = {nt, ld, out.ax.data(), out.ay.data(), out.az.data(), out.valid.data(),
-                  2 * M_PI / s.wavelength_m(), s.range_m(), exact_gain};
+  out.geometry = {nt,
+                  ld,
+                  out.ax.data(),
+                  out.ay.data(),
+                  out.az.data(),
+                  out.valid.data(),
+                  2 * M_PI / s.wavelength_m(),
+                  s.range_m(),
+                  exact_gain};
   std::mt19937_64 rng(seed);
   const Eigen::Matrix3Xd q = lp::random_start_positions_m(s, rng);
   out.nr = s.num_uavs;
@@ -405,7 +412,8 @@ TEST(Kernels, EveryBuild_GivesTheSameBits) {
       k->normals(99, 3, z.data(), 9);
       k->gram_update(gr.data(), gi.data(), g.nt, g.ld, xr.data(), xi.data(), s.row_re(2), s.row_im(2));
       for (const auto* v : {&Xr, &Xi, &xr, &xi, &f, &yr, &yi, &z, &gr, &gi}) o.insert(o.end(), v->begin(), v->end());
-      o.insert(o.end(), {F_A, fg, grad[0], grad[1], grad[2], k->objective_of_row(G, s.row_re(2), s.row_im(2), F_A, xr.data(), xi.data())});
+      o.insert(o.end(), {F_A, fg, grad[0], grad[1], grad[2],
+                         k->objective_of_row(G, s.row_re(2), s.row_im(2), F_A, xr.data(), xi.data())});
       out.push_back(o);
     }
     // THEN: byte-identical results (kernels.h: no fused multiply-adds, fixed summation order)

@@ -35,8 +35,7 @@ UraOutcome run_ura(const lp::Scenario& s, lp::UraVariant variant, std::uint64_t 
   ura.start(swarm);
   ura.iterate(swarm, 1);
   // Independent check: the SVD of the full channel at the final positions.
-  return {lp::inverse_condition_number(model.matrix(swarm.true_positions_m())),
-          swarm.placement_distance_m().mean()};
+  return {lp::inverse_condition_number(model.matrix(swarm.true_positions_m())), swarm.placement_distance_m().mean()};
 }
 }  // namespace
 
@@ -107,13 +106,14 @@ TEST(Settings, EscapeKeys_AreReadValidatedAndWrittenOnlyWhenSet) {
   EXPECT_EQ(defaults.find("escape_uavs"), std::string::npos);
   EXPECT_EQ(defaults.find("depth_step_gain"), std::string::npos);
 
-  const lp::PlacementSettings set = lp::load_placement_settings(
-      losmimo::common::IniConfig::from_string("[gd]\nescape_half_grid = 8\nescape_uavs = 32\ndepth_step_gain = 100\n", "big.ini"));
+  const lp::PlacementSettings set = lp::load_placement_settings(losmimo::common::IniConfig::from_string(
+      "[gd]\nescape_half_grid = 8\nescape_uavs = 32\ndepth_step_gain = 100\n", "big.ini"));
   EXPECT_EQ(set.gd.escape_half_grid, 8);
   EXPECT_EQ(set.gd.escape_uavs, 32);
   EXPECT_EQ(set.gd.depth_step_gain, 100.0);
   const std::string text = lp::to_ini(set);
-  const lp::PlacementSettings again = lp::load_placement_settings(losmimo::common::IniConfig::from_string(text, "again"));
+  const lp::PlacementSettings again =
+      lp::load_placement_settings(losmimo::common::IniConfig::from_string(text, "again"));
   EXPECT_EQ(again.gd.escape_half_grid, 8);
   EXPECT_EQ(again.gd.escape_uavs, 32);
   EXPECT_EQ(again.gd.depth_step_gain, 100.0);

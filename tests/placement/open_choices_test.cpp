@@ -184,8 +184,8 @@ TEST(ProbeActuation, KeptMoveOnly_ProbesDoNotMoveTheUav_WithoutErrorTheRunIsTheS
   if (z == 0) {
     EXPECT_EQ(exact.true_positions_m().col(0), before);
   }
-  EXPECT_NE(noisy.true_positions_m().col(0), before);           // six noisy legs moved it
-  EXPECT_NEAR(exact.probe_distance_m()(0), 12 * 1e-9, 1e-20);   // still flown and counted
+  EXPECT_NE(noisy.true_positions_m().col(0), before);          // six noisy legs moved it
+  EXPECT_NEAR(exact.probe_distance_m()(0), 12 * 1e-9, 1e-20);  // still flown and counted
   // AND without actuation error both readings are the same run
   lp::BfOptions kept;
   kept.probe_actuation = lp::ProbeActuation::kKeptMoveOnly;

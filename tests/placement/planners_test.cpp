@@ -120,8 +120,7 @@ TEST(Ura, WithoutErrors_BothVariantsOrthogonaliseInOneIterationAndLatticeTravels
       EXPECT_TRUE(r.converged());
       EXPECT_EQ(r.iterations, 1);
       // The lattice keeps orthogonality only in the paraxial approximation (ICN ~0.99).
-      EXPECT_GT(lp::inverse_condition_number(model.matrix(r.final_m)),
-                v == lp::UraVariant::kRigid ? 0.999 : 0.98);
+      EXPECT_GT(lp::inverse_condition_number(model.matrix(r.final_m)), v == lp::UraVariant::kRigid ? 0.999 : 0.98);
       (v == lp::UraVariant::kRigid ? rigid_travel : lattice_travel) += r.placement_dist_m.mean();
     }
   }

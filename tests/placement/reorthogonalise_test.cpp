@@ -71,12 +71,12 @@ TEST(Reorthogonalise, IsTheEigenArraysPassBitForBit_AndTheReferencePass_OnEveryB
       std::vector<double> er = w0r, ei = w0i;
       const double eigen_norm2 = eigen_pass(Vr, Vi, ld, count, er, ei);
       std::vector<double> rr = w0r, ri = w0i;
-      const double ref_norm2 = lk::reference_kernels().reorthogonalise(Vr.data(), Vi.data(), ld, count, rr.data(),
-                                                                         ri.data());
+      const double ref_norm2 =
+          lk::reference_kernels().reorthogonalise(Vr.data(), Vi.data(), ld, count, rr.data(), ri.data());
       for (const lp::Isa isa : lp::supported_isas()) {
         std::vector<double> wr = w0r, wi = w0i;
-        const double norm2 = lk::kernels_for(isa).reorthogonalise(Vr.data(), Vi.data(), ld, count, wr.data(),
-                                                                    wi.data());
+        const double norm2 =
+            lk::kernels_for(isa).reorthogonalise(Vr.data(), Vi.data(), ld, count, wr.data(), wi.data());
         EXPECT_EQ(std::memcmp(&norm2, &eigen_norm2, sizeof norm2), 0) << lp::to_string(isa) << " n " << n;
         EXPECT_EQ(std::memcmp(wr.data(), er.data(), ld * sizeof(double)), 0) << lp::to_string(isa);
         EXPECT_EQ(std::memcmp(wi.data(), ei.data(), ld * sizeof(double)), 0) << lp::to_string(isa);

@@ -58,9 +58,7 @@ class FaultyPlanner : public lp::Planner {
   int iteration_ = 0;
 };
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 }  // namespace
 
@@ -126,8 +124,7 @@ TEST(RunHealth, SwarmRefusesAMoveToAnInfinitePosition) {
   start(0, 5) = 1e308;
   lp::Swarm swarm(model, start, {}, 1);
   // WHEN: it is moved by another 1e308 m.
-  const Eigen::Vector3d actual =
-      swarm.move(5, Eigen::Vector3d(1e308, 0.0, 0.0), lp::MotionKind::kPlacement);
+  const Eigen::Vector3d actual = swarm.move(5, Eigen::Vector3d(1e308, 0.0, 0.0), lp::MotionKind::kPlacement);
   // THEN: nothing moved; the fault names the UAV, its position and the move.
   EXPECT_EQ(actual, Eigen::Vector3d::Zero());
   EXPECT_EQ(swarm.true_positions_m().col(5), start.col(5));

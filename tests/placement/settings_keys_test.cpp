@@ -71,7 +71,8 @@ TEST(PlacementKeys, RangeFailures_NameTheKeyWithFileAndLine) {
   EXPECT_EQ(error_of("[errors]\nsigma_act_m = 2000\n"), "p.ini:2: [errors] sigma_act_m: 2000: must be in [0, 1000]");
   EXPECT_EQ(error_of("[scenario]\ncube_center_y_m = 2e7\n"),
             "p.ini:2: [scenario] cube_center_y_m: 2e7: must be in [-10000000, 10000000]");
-  EXPECT_EQ(error_of("[gd]\nstall_window = 200000\n"), "p.ini:2: [gd] stall_window: 200000 is out of range [1, 100000]");
+  EXPECT_EQ(error_of("[gd]\nstall_window = 200000\n"),
+            "p.ini:2: [gd] stall_window: 200000 is out of range [1, 100000]");
   // A rule across keys whose field's key is not given names the key without a line.
   EXPECT_EQ(error_of("[scenario]\ncube_side_m = 3000\n"),
             "[scenario] cube_center_x_m: scenario.cube_center_x_m = 1000: the start cube must lie entirely in front of "
@@ -106,11 +107,13 @@ TEST(PlacementKeys, ValidatorsRefuseWhatTheKeysRefuse) {
   EXPECT_EQ(message(errors), "sigma_act_m | errors.sigma_act_m = 2000: must be in [0, 1000]");
   placement::Scenario scenario;
   scenario.cube_center_m.y() = 2e7;
-  EXPECT_EQ(message(scenario), "cube_center_y_m | scenario.cube_center_y_m = 20000000: must be in [-10000000, 10000000]");
+  EXPECT_EQ(message(scenario),
+            "cube_center_y_m | scenario.cube_center_y_m = 20000000: must be in [-10000000, 10000000]");
   placement::RunOptions run;
   run.max_iterations = 0;  // the baselines' "evaluate the start": allowed in code, not as a key
   EXPECT_EQ(message(run), "accepted");
-  EXPECT_NE(error_of("[placement]\nmax_iterations = 0\n").find("max_iterations: 0 is out of range [1, "), std::string::npos);
+  EXPECT_NE(error_of("[placement]\nmax_iterations = 0\n").find("max_iterations: 0 is out of range [1, "),
+            std::string::npos);
 }
 
 }  // namespace

@@ -193,7 +193,7 @@ TEST(SwarmChannel, GramIsFinite_FindsAnInfOrNanEntryAnywhereInTheGram) {
       channel.set_row(3, x);
       EXPECT_FALSE(channel.gram_is_finite()) << bad << " at " << k;
       EXPECT_FALSE(channel.gram_is_finite()) << "asked again";  // kept per channel version
-      channel.set_row(3, model.row(q.col(3)));  // the rank update leaves inf - inf or NaN in G
+      channel.set_row(3, model.row(q.col(3)));                  // the rank update leaves inf - inf or NaN in G
       EXPECT_FALSE(channel.gram_is_finite()) << bad << " at " << k;
       channel.refresh();  // G from the finite rows again
       EXPECT_TRUE(channel.gram_is_finite()) << bad << " at " << k;

@@ -33,7 +33,8 @@ Eigen::MatrixXcd random_channel(int nr, int nt, std::mt19937_64& rng) {
 }
 
 void expect_rel_near(double a, double b, const std::string& what) {
-  EXPECT_LE(std::abs(a - b), kRelTolerance * std::max({1.0, std::abs(a), std::abs(b)})) << what << ": " << a << " vs " << b;
+  EXPECT_LE(std::abs(a - b), kRelTolerance * std::max({1.0, std::abs(a), std::abs(b)}))
+      << what << ": " << a << " vs " << b;
 }
 
 lp::Scenario array_of(int side, int num_uavs = 16) {
@@ -80,7 +81,10 @@ TEST(UavStreams, RandomWideChannels_MatchEigenvaluesPseudoInverseAndExplicitSums
         for (int j = 0; j < nr; ++j) {
           cd inner = 0.0;
           for (int k = 0; k < nt; ++k) inner += H(j, k) * std::conj(H(n, k));
-          if (j == n) signal = std::norm(inner); else interference += std::norm(inner);
+          if (j == n)
+            signal = std::norm(inner);
+          else
+            interference += std::norm(inner);
         }
         for (int k = 0; k < nt; ++k) norm2 += std::norm(H(n, k));
         const double nv = signal / (interference + norm2 * kNoiseVariance);
@@ -179,13 +183,15 @@ TEST(UavSideSwarmChannel, Gradient_MatchesCentralDifferencesAndTheColumnObjectiv
       };
       const Eigen::Vector3d numeric = losmimo::test_support::central_gradient<3>(
           [&](const Eigen::Vector3d& x) { return full(x, false); }, q.col(m), kStep_m);
-      EXPECT_LT((analytic - numeric).norm(), 1e-4 * numeric.norm()) << analytic.transpose() << " | " << numeric.transpose();
+      EXPECT_LT((analytic - numeric).norm(), 1e-4 * numeric.norm())
+          << analytic.transpose() << " | " << numeric.transpose();
       if (gm == lp::GainModel::kFarField) {
         // Far field: f_col - f_row = Nr Nt (Nt - Nr), a constant, so the gradients agree.
         const Eigen::Vector3d columns = losmimo::test_support::central_gradient<3>(
             [&](const Eigen::Vector3d& x) { return full(x, true); }, q.col(m), kStep_m);
         EXPECT_LT((analytic - columns).norm(), 1e-3 * columns.norm());
-        EXPECT_NEAR(full(q.col(m), true) - full(q.col(m), false), 16.0 * 64.0 * (64.0 - 16.0), 1e-6 * full(q.col(m), true));
+        EXPECT_NEAR(full(q.col(m), true) - full(q.col(m), false), 16.0 * 64.0 * (64.0 - 16.0),
+                    1e-6 * full(q.col(m), true));
       }
     }
   }
@@ -221,10 +227,12 @@ TEST(UavSideUra, SixteenUavsOn64And256Antennas_PickSlotsWithOrthogonalRows) {
       // The rigid grid's slots are orthogonal up to the near field; the lattice variant's depth
       // shifts by whole periods cost a little more of it.
       const double floor = v == lp::UraVariant::kRigid ? 0.99 : 0.98;
-      EXPECT_GE(lp::inverse_condition_number(model.matrix(r.final_m)), floor) << ura.name() << " on " << side << "x" << side;
+      EXPECT_GE(lp::inverse_condition_number(model.matrix(r.final_m)), floor)
+          << ura.name() << " on " << side << "x" << side;
       // The targets are 16 distinct slots of the Nt-slot grid.
       for (int a = 0; a < s.num_uavs; ++a) {
-        for (int b = a + 1; b < s.num_uavs; ++b) EXPECT_GT((ura.targets_m().col(a) - ura.targets_m().col(b)).norm(), 0.1);
+        for (int b = a + 1; b < s.num_uavs; ++b)
+          EXPECT_GT((ura.targets_m().col(a) - ura.targets_m().col(b)).norm(), 0.1);
       }
     }
   }

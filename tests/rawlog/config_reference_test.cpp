@@ -26,8 +26,8 @@ std::string reference() {
          "`--set section.key=value`; a bad value stops the app before any work, naming the file, line, "
          "key and value.\n\n"
          "## Scenario and placement (every app)\n\n" +
-         placement::placement_keys().markdown() +
-         "\n## Experiment (`losmimo-experiment`)\n\n" + experiment::experiment_keys().markdown() +
+         placement::placement_keys().markdown() + "\n## Experiment (`losmimo-experiment`)\n\n" +
+         experiment::experiment_keys().markdown() +
          "\n## Co-evaluation sweeps (`losmimo-experiment`, `[experiment] sweeps = beacon_noise_m, "
          "beacon_outage`)\n\n" +
          coevaluation::coevaluation_keys().markdown({"coevaluation"}) +

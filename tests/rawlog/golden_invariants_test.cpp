@@ -64,10 +64,20 @@ struct InvariantsFile {
 };
 
 const std::vector<std::string>& variant_keys() {
-  static const std::vector<std::string> keys = {
-      "status", "epochs", "final_icn_min", "final_icn_max", "nees_epoch_low", "nees_epoch_high",
-      "nees_epoch_min_fraction", "nees_mean_low", "nees_mean_high", "range_rmse_min_m",
-      "rmse_max_m", "beacons", "fallback_fraction_min", "fallback_fraction_max"};
+  static const std::vector<std::string> keys = {"status",
+                                                "epochs",
+                                                "final_icn_min",
+                                                "final_icn_max",
+                                                "nees_epoch_low",
+                                                "nees_epoch_high",
+                                                "nees_epoch_min_fraction",
+                                                "nees_mean_low",
+                                                "nees_mean_high",
+                                                "range_rmse_min_m",
+                                                "rmse_max_m",
+                                                "beacons",
+                                                "fallback_fraction_min",
+                                                "fallback_fraction_max"};
   return keys;
 }
 
@@ -324,10 +334,10 @@ TEST_P(Missions, InvariantsHoldOnAFreshReplay) {
   ASSERT_TRUE(log.complete) << log.stop_description();
   // WHEN: replayed with the variant's estimator.
   const ReplayFigures f = figures_of(log, replay_mission(log, options_of(c.variant)));
-  std::cout << "[invariants] " << c.mission << " " << c.variant << ": status " << f.status << ", epochs "
-            << f.epochs << ", final ICN " << f.final_icn << ", NEES " << f.average_nees << ", LoS RMSE "
-            << f.range_rmse_m << " m, RMSE " << f.rmse_m << " m (beacon epochs), beacons " << f.beacons
-            << ", fallback " << f.fallback_fraction << "\n";
+  std::cout << "[invariants] " << c.mission << " " << c.variant << ": status " << f.status << ", epochs " << f.epochs
+            << ", final ICN " << f.final_icn << ", NEES " << f.average_nees << ", LoS RMSE " << f.range_rmse_m
+            << " m, RMSE " << f.rmse_m << " m (beacon epochs), beacons " << f.beacons << ", fallback "
+            << f.fallback_fraction << "\n";
   // THEN
   const std::vector<std::string> v = violations(bounds_of(file, c.variant), f);
   EXPECT_TRUE(v.empty()) << dir << "/invariants.ini [" << c.variant << "]:" << joined(v);
@@ -371,7 +381,8 @@ TEST(GoldenInvariants, EveryShippedGoldenVariant_HasEveryInvariantWithAReason) {
       EXPECT_EQ(b.size(), variant_keys().size()) << mission << " [" << v << "]";
     }
     for (const auto& [section, bounds] : file.sections)
-      EXPECT_TRUE(section == "mission" || std::count(listed.begin(), listed.end(), section)) << mission << " [" << section << "]";
+      EXPECT_TRUE(section == "mission" || std::count(listed.begin(), listed.end(), section))
+          << mission << " [" << section << "]";
   }
 }
 
@@ -439,12 +450,15 @@ TEST(GoldenInvariants, Bounds_FollowFromTheMissionsConfig) {
     // largest logged range), times the upper 0.5% quantile of chi2(3 uavs) / (3 uavs).
     const double lateral_sigma_m = range_max_m * truth.sigma_angle_rad;
     const double beacon_only_rmse_m = std::sqrt(r + 2.0 * lateral_sigma_m * lateral_sigma_m);
-    const double rmse_max_m = beacon_only_rmse_m * std::sqrt(test_support::chi2_quantile(3.0 * uavs, 0.5 * (1.0 + kConfidence)) / (3.0 * uavs));
+    const double rmse_max_m =
+        beacon_only_rmse_m *
+        std::sqrt(test_support::chi2_quantile(3.0 * uavs, 0.5 * (1.0 + kConfidence)) / (3.0 * uavs));
     // Final ICN: converged runs reached the target; capped runs did not, but beat the start.
     const placement::Scenario& scenario = config.placement.scenario;
     const double start_icn =
         placement::evaluate_link(placement::ChannelModel(scenario).matrix(mission_start_positions_m(config)),
-                                 scenario.noise_variance()).icn;
+                                 scenario.noise_variance())
+            .icn;
     const double target_icn = config.placement.run.target_icn;
 
     for (const std::string& v : listed_variants(file)) {
@@ -538,10 +552,12 @@ TEST(GoldenInvariants, Reader_NamesAKeyWithoutReasonAndAnUnknownKey) {
   ASSERT_EQ(f.problems.size(), 1u) << joined(f.problems);
   EXPECT_NE(f.problems[0].find(":7: epochs has no reason"), std::string::npos) << f.problems[0];
   const std::vector<std::string> v = violations(bounds_of(f, "ekf"), ReplayFigures{});
-  EXPECT_TRUE(std::any_of(v.begin(), v.end(), [](const std::string& s) { return s.rfind("unknown key beacon", 0) == 0; }))
-      << joined(v);
-  EXPECT_TRUE(std::any_of(v.begin(), v.end(), [](const std::string& s) { return s.rfind("rmse_max_m = ?: missing", 0) == 0; }))
-      << joined(v);
+  EXPECT_TRUE(std::any_of(v.begin(), v.end(), [](const std::string& s) {
+    return s.rfind("unknown key beacon", 0) == 0;
+  })) << joined(v);
+  EXPECT_TRUE(std::any_of(v.begin(), v.end(), [](const std::string& s) {
+    return s.rfind("rmse_max_m = ?: missing", 0) == 0;
+  })) << joined(v);
 }
 
 }  // namespace

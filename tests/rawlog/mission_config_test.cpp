@@ -15,15 +15,15 @@
 namespace losmimo::rawlog {
 namespace {
 
-using test_support::contains;
 using fusion::UavFaultKind;
+using test_support::contains;
 
 TEST(MissionConfigFaults, FaultKeys_ParseRoundTripAndRejectBadValues) {
   // GIVEN / WHEN: the INI keys of losmimo-record.
-  const MissionConfig c = load_mission_config(common::IniConfig::from_string(
-      "[closed_loop]\nfaults = unresponsive:3:12, nan_beacon:0:5:10\n"
-      "unresponsive_after_iterations = 4\n",
-      "mission.ini"));
+  const MissionConfig c = load_mission_config(
+      common::IniConfig::from_string("[closed_loop]\nfaults = unresponsive:3:12, nan_beacon:0:5:10\n"
+                                     "unresponsive_after_iterations = 4\n",
+                                     "mission.ini"));
   // THEN
   ASSERT_EQ(c.closed_loop.faults.size(), 2u);
   EXPECT_EQ(c.closed_loop.faults[0].kind, UavFaultKind::kUnresponsive);
@@ -34,8 +34,7 @@ TEST(MissionConfigFaults, FaultKeys_ParseRoundTripAndRejectBadValues) {
   EXPECT_EQ(c.closed_loop.faults[1].num_iterations, 10);
   EXPECT_EQ(c.closed_loop.unresponsive_after_iterations, 4);
   // to_ini keeps them; without them the INI has no fault keys at all.
-  const MissionConfig again =
-      load_mission_config(common::IniConfig::from_string(mission_to_ini(c), "again"));
+  const MissionConfig again = load_mission_config(common::IniConfig::from_string(mission_to_ini(c), "again"));
   EXPECT_EQ(mission_to_ini(again), mission_to_ini(c));
   EXPECT_FALSE(contains(mission_to_ini(load_mission_config(common::IniConfig())), "faults"));
 
@@ -47,15 +46,15 @@ TEST(MissionConfigFaults, FaultKeys_ParseRoundTripAndRejectBadValues) {
     }
     return std::string("accepted");
   };
-  EXPECT_TRUE(contains(error("[closed_loop]\nfaults = dead:1:2\n"), "faults")) << error("[closed_loop]\nfaults = dead:1:2\n");
+  EXPECT_TRUE(contains(error("[closed_loop]\nfaults = dead:1:2\n"), "faults"))
+      << error("[closed_loop]\nfaults = dead:1:2\n");
   EXPECT_TRUE(contains(error("[closed_loop]\nfaults = dead:1:2\n"), "'dead'"));
   EXPECT_TRUE(contains(error("[closed_loop]\nfaults = unresponsive:16:2\n"), "uav"));
   EXPECT_TRUE(contains(error("[closed_loop]\nfaults = unresponsive:1:0\n"), "from_iteration"));
-  EXPECT_TRUE(contains(error("[closed_loop]\nfaults = unresponsive:1\n"),
-                       "expected kind:uav:from_iteration[:num_iterations]"));
+  EXPECT_TRUE(
+      contains(error("[closed_loop]\nfaults = unresponsive:1\n"), "expected kind:uav:from_iteration[:num_iterations]"));
   EXPECT_TRUE(contains(error("[closed_loop]\nfaults = nan_csi:1:2\n"), "nan_csi needs refine"));
-  EXPECT_TRUE(contains(error("[closed_loop]\nunresponsive_after_iterations = 0\n"),
-                       "unresponsive_after_iterations"));
+  EXPECT_TRUE(contains(error("[closed_loop]\nunresponsive_after_iterations = 0\n"), "unresponsive_after_iterations"));
   EXPECT_TRUE(contains(error("[closed_loop]\nfaults = unresponsive:1:2\n"), "accepted"));
   // The closed loop models the LoS channel with perfect CSI: channel conditions are refused.
   EXPECT_EQ(error("[channel]\nrician_k_db = 10\n"),
@@ -70,8 +69,8 @@ TEST(MissionConfigFaults, BeaconRangeLimitKey_ParsesRoundTripsAndRejectsBadValue
   EXPECT_EQ(defaults.closed_loop.filter.max_beacon_range_m, localization::FilterConfig{}.max_beacon_range_m);
   // Not written when it is the default: the CONFIG of existing missions does not change.
   EXPECT_FALSE(contains(mission_to_ini(defaults), "max_beacon_range_m"));
-  const MissionConfig c = load_mission_config(
-      common::IniConfig::from_string("[closed_loop]\nfilter_max_beacon_range_m = 2500\n", "m.ini"));
+  const MissionConfig c =
+      load_mission_config(common::IniConfig::from_string("[closed_loop]\nfilter_max_beacon_range_m = 2500\n", "m.ini"));
   EXPECT_EQ(c.closed_loop.filter.max_beacon_range_m, 2500.0);
   const MissionConfig again = load_mission_config(common::IniConfig::from_string(mission_to_ini(c), "again"));
   EXPECT_EQ(again.closed_loop.filter.max_beacon_range_m, 2500.0);
@@ -100,8 +99,7 @@ TEST(RecordAppFaults, UnresponsiveUav_ExitCode3WithTheReasonAndAClosedLog) {
   // THEN
   EXPECT_EQ(code, 3) << out.str() << err.str();
   EXPECT_TRUE(contains(out.str(), "uav_unresponsive")) << out.str();
-  EXPECT_TRUE(contains(err.str(), "run ended by a fault: UAV 5: no measurement and no motion"))
-      << err.str();
+  EXPECT_TRUE(contains(err.str(), "run ended by a fault: UAV 5: no measurement and no motion")) << err.str();
   std::FILE* f = std::fopen(out_path.c_str(), "rb");
   ASSERT_NE(f, nullptr);
   std::fseek(f, 0, SEEK_END);

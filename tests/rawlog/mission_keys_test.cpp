@@ -72,15 +72,20 @@ TEST(MissionKeys, RuleFailures_NameTheKeyThatSetTheField) {
   // with the key; a key that sets several fields takes the strictest field's range.
   EXPECT_EQ(error_of("[closed_loop]\nbeacon_sigma_range_m = -1\n"),
             "m.ini:2: [closed_loop] beacon_sigma_range_m: -1: must be >= 0");
-  EXPECT_EQ(error_of("[closed_loop]\noutlier_fraction = 2\n"), "m.ini:2: [closed_loop] outlier_fraction: 2: must be in [0, 1]");
-  EXPECT_EQ(error_of("[closed_loop]\ndr_sigma_floor_m = 0\n"), "m.ini:2: [closed_loop] dr_sigma_floor_m: 0: must be > 0");
+  EXPECT_EQ(error_of("[closed_loop]\noutlier_fraction = 2\n"),
+            "m.ini:2: [closed_loop] outlier_fraction: 2: must be in [0, 1]");
+  EXPECT_EQ(error_of("[closed_loop]\ndr_sigma_floor_m = 0\n"),
+            "m.ini:2: [closed_loop] dr_sigma_floor_m: 0: must be > 0");
   EXPECT_EQ(error_of("[closed_loop]\nbeacon_sigma_range_m = 0.5\nfilter_sigma_range_m = -0.5\n"),
             "m.ini:3: [closed_loop] filter_sigma_range_m: -0.5: must be > 0");
-  EXPECT_EQ(error_of("[closed_loop]\nfilter_sigma_angle_rad = 0\n"), "m.ini:2: [closed_loop] filter_sigma_angle_rad: 0: must be > 0");
+  EXPECT_EQ(error_of("[closed_loop]\nfilter_sigma_angle_rad = 0\n"),
+            "m.ini:2: [closed_loop] filter_sigma_angle_rad: 0: must be > 0");
   EXPECT_EQ(error_of("[closed_loop]\nfilter_max_beacon_range_m = 0\n"),
             "m.ini:2: [closed_loop] filter_max_beacon_range_m: 0: must be > 0");
   // A filter assuming the true noise: the beacon key is named though the filter's copy is bad too.
-  EXPECT_EQ(error_of("[closed_loop]\nbeacon_sigma_angle_rad = -1\n").rfind("m.ini:2: [closed_loop] beacon_sigma_angle_rad: ", 0), 0u);
+  EXPECT_EQ(error_of("[closed_loop]\nbeacon_sigma_angle_rad = -1\n")
+                .rfind("m.ini:2: [closed_loop] beacon_sigma_angle_rad: ", 0),
+            0u);
   // A matched zero noise breaks the refinement's rule on a key not given: named without a line.
   EXPECT_EQ(error_of("[closed_loop]\nbeacon_sigma_angle_rad = 0\n"),
             "[closed_loop] filter_sigma_angle_rad: refinement.beacon_sigma_angle_rad = 0: must be > 0");

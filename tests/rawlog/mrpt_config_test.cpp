@@ -85,8 +85,9 @@ TEST(MrptAppConfig, CaseInsensitiveKeysAndInlineComments) {
 }
 
 TEST(MrptAppConfig, BadValues_NameSectionKeyAndValue) {
-  const std::string s = "[MetricMap_landmarksMap_00_creationOpts]\nnBeacons=2\nbeacon_001_ID=1\nbeacon_001_X=0\n"
-                        "beacon_001_Y=0\nbeacon_002_ID=2\nbeacon_002_Y=1\n";
+  const std::string s =
+      "[MetricMap_landmarksMap_00_creationOpts]\nnBeacons=2\nbeacon_001_ID=1\nbeacon_001_X=0\n"
+      "beacon_001_Y=0\nbeacon_002_ID=2\nbeacon_002_Y=1\n";
   EXPECT_NE(error_of(s).find("[MetricMap_landmarksMap_00_creationOpts] beacon_002_X: missing"), std::string::npos)
       << error_of(s);
   const std::string t = "[MetricMap_landmarksMap_00_creationOpts]\nnBeacons=two\n";
@@ -133,8 +134,8 @@ TEST(RangeReplayGroundTruth, UwbDemo_AlignedAsRoLocalization_FilterBeatsDeadReck
     EXPECT_NEAR(t.truth(0), w.x(), 1e-12);
     EXPECT_NEAR(t.truth(1), w.y(), 1e-12);
   }
-  std::cout << "UWB demo EKF: RMSE " << r.rmse_m << " m, NEES(xy) " << r.mean_nees << ", dead reckoning "
-            << r.dr_rmse_m << " m\n";
+  std::cout << "UWB demo EKF: RMSE " << r.rmse_m << " m, NEES(xy) " << r.mean_nees << ", dead reckoning " << r.dr_rmse_m
+            << " m\n";
   EXPECT_LT(r.rmse_m, 0.5 * r.dr_rmse_m);
   EXPECT_LT(r.rmse_m, 0.25);
 }
@@ -219,7 +220,8 @@ TEST(BeaconsIni, RecordedMissionsIni_GivesTheBsBeaconRangeSigmaAndStartCubePrior
   EXPECT_EQ(box->max(1), 25.0);
   EXPECT_EQ(box->min(3), 0.0);
   EXPECT_EQ(box->max(3), 0.0);
-  EXPECT_NE(std::find(c.unused_keys.begin(), c.unused_keys.end(), "[MetricMap] landmarksMap_count"), c.unused_keys.end());
+  EXPECT_NE(std::find(c.unused_keys.begin(), c.unused_keys.end(), "[MetricMap] landmarksMap_count"),
+            c.unused_keys.end());
 }
 
 }  // namespace

@@ -38,7 +38,7 @@ const std::string kDemoBeacons = kDemoDir + "/RO-SLAM_demo_ground_truth.txt";
 constexpr double kDemoStdError_m = 0.01;  // the log's stdError
 constexpr int kDemoFrames = 100;
 
-#define SKIP_WITHOUT_DEMO()                  \
+#define SKIP_WITHOUT_DEMO()                      \
   LOSMIMO_REQUIRE_FILE(kDemoLog, "mrpt-common"); \
   LOSMIMO_REQUIRE_FILE(kDemoBeacons, "mrpt-common")
 
@@ -94,8 +94,8 @@ TEST_P(RoSlamDemo, EveryKnownBeaconRangeFused_ResidualWithinTwiceTheRangeNoise) 
   EXPECT_EQ(r.counters.ranges_fused, log.ranges);
   EXPECT_EQ(r.counters.rejected_ranges(), 0);
   // AND: the post-fit residual after convergence is within 2x the range noise, the NIS near 1.
-  std::cout << to_string(GetParam()) << ": residual RMS " << r.residual_rms_settled_m << " m, mean NIS "
-            << r.mean_nis << "\n";
+  std::cout << to_string(GetParam()) << ": residual RMS " << r.residual_rms_settled_m << " m, mean NIS " << r.mean_nis
+            << "\n";
   EXPECT_LT(r.residual_rms_settled_m, 2.0 * kDemoStdError_m);
   EXPECT_GT(r.mean_nis, 0.5);
   EXPECT_LT(r.mean_nis, 1.5);
@@ -414,7 +414,8 @@ TEST(RangeLog, ObservationFormat_OdometryDifferencesAndRangesWithKnownTruth) {
     EXPECT_EQ(r.counters.ranges_fused, static_cast<std::int64_t>(kSteps * beacons.size()));
     double sq = 0.0;
     for (int k = 0; k < kSteps; ++k) {
-      sq += std::pow(r.track[k].belief.mean(0) - truth[k].x(), 2) + std::pow(r.track[k].belief.mean(1) - truth[k].y(), 2);
+      sq +=
+          std::pow(r.track[k].belief.mean(0) - truth[k].x(), 2) + std::pow(r.track[k].belief.mean(1) - truth[k].y(), 2);
     }
     const double rmse = std::sqrt(sq / kSteps);
     std::cout << localization::to_string(kind) << " observation-format log: RMSE " << rmse << " m\n";

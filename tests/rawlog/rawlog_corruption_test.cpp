@@ -207,8 +207,11 @@ TEST(RawlogForeign, BearingRangeAndOdometry_AreUsedAndTheRestListedAndSkipped) {
   // AND: strict mode stops at the first class it cannot bound (the odometry and bearing-range
   // are bounded: object 2, the IMU), and says which.
   std::ostringstream out2, err2;
-  EXPECT_EQ(apps::run_replay_app({path, "ekf", false, false, "", true}, out2, err2), 1) << err2.str();  // a stopped read
-  EXPECT_NE(err2.str().find("stopped at object 2 (uncompressed byte 327): limit: mrpt::obs::CObservationIMU"), std::string::npos) << err2.str();
+  EXPECT_EQ(apps::run_replay_app({path, "ekf", false, false, "", true}, out2, err2), 1)
+      << err2.str();  // a stopped read
+  EXPECT_NE(err2.str().find("stopped at object 2 (uncompressed byte 327): limit: mrpt::obs::CObservationIMU"),
+            std::string::npos)
+      << err2.str();
 }
 
 }  // namespace

@@ -31,7 +31,8 @@ using test_support::small_mission;
 using test_support::temp_path;
 using test_support::write_file_bytes;
 
-constexpr const char* kReason = "UAV 2: no measurement and no motion for 3 iterations (since iteration 4) at iteration 6";
+constexpr const char* kReason =
+    "UAV 2: no measurement and no motion for 3 iterations (since iteration 4) at iteration 6";
 
 // The recorded log of the small mission whose UAV 2 dies at iteration 4 (found at iteration 6);
 // one per process (ctest runs the tests of this file in parallel processes).
@@ -60,8 +61,8 @@ std::string with_end_of_log(const std::function<std::string(const std::string&)>
   std::string bytes;
   for (std::size_t i = 0; i + 1 < objects.size(); ++i)
     bytes.append(reinterpret_cast<const char*>(objects[i].bytes.data()), objects[i].bytes.size());
-  const auto* end = objects.empty() ? nullptr
-                                    : dynamic_cast<const mrpt::obs::CObservationComment*>(objects.back().object.get());
+  const auto* end =
+      objects.empty() ? nullptr : dynamic_cast<const mrpt::obs::CObservationComment*>(objects.back().object.get());
   if (!end) throw std::runtime_error(dead_uav_log() + ": does not end with END_OF_LOG");
   mrpt::obs::CObservationComment mark = *end;
   mark.text = with_text_digest(edit(mark.text.substr(0, mark.text.rfind("text_digest = "))));
@@ -104,9 +105,8 @@ TEST(RawlogEndOfLog, UnchangedRewrite_ReadsAsTheRecordedLog) {
 
 TEST(RawlogEndOfLog, FaultedLogWithoutTheReason_StillReportsTheFaultAndExits3) {
   // GIVEN: a faulted run's END_OF_LOG as written before fault_uav and fault were logged.
-  const std::string bytes = with_end_of_log([](const std::string& t) {
-    return replace_line(replace_line(t, "fault_uav", ""), "fault", "");
-  });
+  const std::string bytes =
+      with_end_of_log([](const std::string& t) { return replace_line(replace_line(t, "fault_uav", ""), "fault", ""); });
   // WHEN
   const MissionLog log = load_bytes(bytes);
   const AppRun app = replay_app(bytes, "end_of_log_no_reason");
@@ -155,9 +155,9 @@ TEST(RawlogEndOfLog, ReasonWithCommas_IsOneQuotedFieldOfSummaryCsv) {
   // GIVEN: a numerical fault's reason, which holds commas (placement::check_finite's wording).
   const std::string reason = "UAV 3: commanded move is non-finite (r = (nan, 0, 0)) at iteration 4";
   const std::string bytes = with_end_of_log([&](const std::string& t) {
-    return replace_line(replace_line(replace_line(t, "status", "status = numerical_fault"), "fault_uav",
-                                     "fault_uav = 3"),
-                        "fault", "fault = " + reason);
+    return replace_line(
+        replace_line(replace_line(t, "status", "status = numerical_fault"), "fault_uav", "fault_uav = 3"), "fault",
+        "fault = " + reason);
   });
   // WHEN
   const AppRun app = replay_app(bytes, "end_of_log_commas");

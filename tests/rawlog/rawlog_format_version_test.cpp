@@ -121,8 +121,7 @@ TEST(RawlogFormatVersion, Version1Sample_ReplaysByteForByteAsVersion1Did_AndToda
       const std::string rerecorded =
           test_support::read_file(source_path(kV1Sample + "/golden_rerecorded/" + estimator + "/" + file));
       ASSERT_FALSE(rerecorded.empty()) << file;
-      EXPECT_LE(test_support::csv_max_relative_difference(test_support::read_file(out2 + "/" + file), rerecorded),
-                1e-7)
+      EXPECT_LE(test_support::csv_max_relative_difference(test_support::read_file(out2 + "/" + file), rerecorded), 1e-7)
           << estimator << " " << file << " (version 2)";
     }
   }
@@ -134,7 +133,7 @@ TEST(RawlogFormatVersion, NewRecording_IsTheCurrentVersionWithTheStandardStreams
   EXPECT_TRUE(log.complete);
   EXPECT_TRUE(log.skipped.empty());
   EXPECT_EQ(used(log, "ODOMETRY"), 4 * static_cast<std::int64_t>(log.epochs.size()));  // every UAV-epoch
-  EXPECT_EQ(used(log, "BS_RANGES"), used(log, "BEACON64"));  // every beacon
+  EXPECT_EQ(used(log, "BS_RANGES"), used(log, "BEACON64"));                            // every beacon
 }
 
 TEST(RawlogFormatVersion, UnchangedRewrite_ReadsComplete) {

@@ -22,7 +22,8 @@ using lt::read_file;
 
 std::map<std::string, std::string> snapshot(const fs::path& dir) {
   std::map<std::string, std::string> files;
-  for (const fs::directory_entry& e : fs::directory_iterator(dir)) files[e.path().filename().string()] = read_file(e.path());
+  for (const fs::directory_entry& e : fs::directory_iterator(dir))
+    files[e.path().filename().string()] = read_file(e.path());
   return files;
 }
 
@@ -41,8 +42,9 @@ class OutputsInterrupt : public ::testing::Test {
   }
   std::string log(const std::string& name) { return read_file(dir_ / (name + ".log")); }
   std::vector<std::string> record(const fs::path& out, const std::string& seed, std::vector<std::string> more = {}) {
-    std::vector<std::string> a = {LOSMIMO_RECORD_APP, "--config", (dir_ / "m11.ini").string(), "--set",
-                                  "mission.seed=" + seed, "--out", out.string()};
+    std::vector<std::string> a = {
+        LOSMIMO_RECORD_APP, "--config", (dir_ / "m11.ini").string(), "--set", "mission.seed=" + seed, "--out",
+        out.string()};
     a.insert(a.end(), more.begin(), more.end());
     return a;
   }
@@ -78,8 +80,9 @@ TEST_F(OutputsInterrupt, ReplayKilledWhileWriting_LeavesTheOldReplayWhole) {
   const auto before = snapshot(out);
   EXPECT_EQ(run({LOSMIMO_REPLAY_APP, b.string(), "--out", out.string()}, "pb"), 2);
   EXPECT_NE(log("pb").find(out.string() + " holds a finished replay"), std::string::npos) << log("pb");
-  const lt::PausedProcess p = lt::spawn_until_paused({LOSMIMO_REPLAY_APP, b.string(), "--out", out.string(), "--replace"},
-                                                     (dir_ / "pc.log").string(), "replay.outputs_written");
+  const lt::PausedProcess p =
+      lt::spawn_until_paused({LOSMIMO_REPLAY_APP, b.string(), "--out", out.string(), "--replace"},
+                             (dir_ / "pc.log").string(), "replay.outputs_written");
   ASSERT_TRUE(p.paused) << log("pc");
   ASSERT_EQ(lt::interrupt(p, SIGTERM), 128 + SIGTERM);
   EXPECT_EQ(snapshot(out), before);

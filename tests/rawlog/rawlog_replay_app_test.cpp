@@ -22,10 +22,10 @@ namespace losmimo::rawlog {
 namespace {
 
 namespace fs = std::filesystem;
-using ::testing::HasSubstr;
 using test_support::read_file;
 using test_support::temp_path;
 using test_support::write_file_bytes;
+using ::testing::HasSubstr;
 
 constexpr auto kDeadline = std::chrono::seconds(120);  // the replay takes well under a second
 constexpr auto kPollInterval = std::chrono::milliseconds(5);

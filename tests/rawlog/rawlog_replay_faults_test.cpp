@@ -44,7 +44,7 @@ struct Live {
 Live run_live(const MissionConfig& config) {
   Live live;
   live.run = fusion::run_closed_loop(config.placement, mission_start_positions_m(config), config.closed_loop,
-                             config.seed, &live.seen);
+                                     config.seed, &live.seen);
   return live;
 }
 
@@ -108,8 +108,7 @@ TEST(RawlogReplayFaults, UavDeadFromIteration4_ReplaysUpToTheFaultAndReportsStat
     // iterations, at iteration 4 + 3 - 1 = 6. Epoch k is iteration k + 1: UAV 2 reports epochs
     // 0-2 and nothing in epochs 3-5.
     constexpr int kDead = 2, kFrom = 4, kFoundAt = 6;
-    const MissionConfig config =
-        small_mission(refine ? "pf" : "ekf", refine, "faults = unresponsive:2:4\n");
+    const MissionConfig config = small_mission(refine ? "pf" : "ekf", refine, "faults = unresponsive:2:4\n");
     const std::string path = temp_path(std::string("dead_uav_") + (refine ? "pf" : "ekf") + ".rawlog");
     const RecordResult rec = record_mission(config, {path, 6, {}});
     const Live live = run_live(config);
@@ -124,7 +123,8 @@ TEST(RawlogReplayFaults, UavDeadFromIteration4_ReplaysUpToTheFaultAndReportsStat
     EXPECT_TRUE(log.run_faulted());
     EXPECT_EQ(log.run_end.status, "uav_unresponsive");
     EXPECT_EQ(log.run_end.fault_uav, kDead);
-    EXPECT_EQ(log.run_end.fault, "UAV 2: no measurement and no motion for 3 iterations (since iteration 4) at iteration 6");
+    EXPECT_EQ(log.run_end.fault,
+              "UAV 2: no measurement and no motion for 3 iterations (since iteration 4) at iteration 6");
     ASSERT_EQ(static_cast<int>(log.epochs.size()), kFoundAt);
     // AND: every epoch the loop observed is reproduced bit for bit (6 x 4 - 3 silent).
     EXPECT_EQ(expect_replay_matches_live(r, live, kSmallUavs), kFoundAt * kSmallUavs - 3);
@@ -165,7 +165,8 @@ TEST(RawlogReplayFaults, UavDeadFromIteration4_ReplaysUpToTheFaultAndReportsStat
     const AppRun app = replay_app(path, temp_path(std::string("dead_uav_out_") + (refine ? "pf" : "ekf")));
     EXPECT_EQ(app.code, 3) << app.err;
     EXPECT_TRUE(contains(app.err, "ended by a fault (uav_unresponsive): " + log.run_end.fault)) << app.err;
-    EXPECT_TRUE(contains(app.out, "\nstatus = uav_unresponsive\nfault_uav = 2\nfault = " + log.run_end.fault)) << app.out;
+    EXPECT_TRUE(contains(app.out, "\nstatus = uav_unresponsive\nfault_uav = 2\nfault = " + log.run_end.fault))
+        << app.out;
     EXPECT_TRUE(contains(app.summary_csv, "\nstatus,uav_unresponsive\nfault_uav,2\nfault," + log.run_end.fault + "\n"))
         << app.summary_csv;
     EXPECT_TRUE(contains(app.summary_csv, "\nepochs,6\n")) << app.summary_csv;
@@ -275,10 +276,11 @@ MissionConfig overflow_mission() {
   for (int m = 0; m < 16; ++m) {
     if (m != 1) outages += ", " + std::to_string(m) + ":0:1000000";
   }
-  MissionConfig config = load_mission_config(common::IniConfig::from_string(
-      "[errors]\nsigma_act_m = 0.02\n[placement]\nmax_iterations = 30\n"
-      "[closed_loop]\noutlier_fraction = 1\noutages = " + outages + "\n",
-      "overflow_mission"));
+  MissionConfig config = load_mission_config(
+      common::IniConfig::from_string("[errors]\nsigma_act_m = 0.02\n[placement]\nmax_iterations = 30\n"
+                                     "[closed_loop]\noutlier_fraction = 1\noutages = " +
+                                         outages + "\n",
+                                     "overflow_mission"));
   config.closed_loop.simulator.outlier_sigma_range_m = 1e300;
   config.closed_loop.filter.max_beacon_range_m = std::numeric_limits<double>::max();  // screen opened
   return config;

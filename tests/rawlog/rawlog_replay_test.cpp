@@ -16,8 +16,8 @@
 namespace losmimo::rawlog {
 namespace {
 
-using test_support::read_file;
 using test_support::load_log;
+using test_support::read_file;
 using test_support::small_mission;
 using test_support::source_path;
 using test_support::temp_path;
@@ -52,8 +52,8 @@ void expect_same_csv(const std::string& golden_path, const std::string& actual_p
       char* end_a = nullptr;
       const double x = std::strtod(g.c_str(), &end_g), y = std::strtod(a.c_str(), &end_a);
       const bool numbers = *end_g == '\0' && *end_a == '\0' && !g.empty() && !a.empty();
-      const bool close = numbers && ((std::isnan(x) && std::isnan(y)) ||
-                                     std::abs(x - y) <= kRelTol * std::max(1.0, std::abs(x)));
+      const bool close =
+          numbers && ((std::isnan(x) && std::isnan(y)) || std::abs(x - y) <= kRelTol * std::max(1.0, std::abs(x)));
       if (!close) {
         ADD_FAILURE() << golden_path << " row " << r << " column " << c << ": golden " << g << ", replay " << a;
         ++differences;
@@ -94,17 +94,18 @@ TEST_P(GoldenReplay, MatchesTheGoldenCsv) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Datasets, GoldenReplay,
-    ::testing::Values(GoldenCase{"nominal", "ekf"}, GoldenCase{"nominal", "pf"},
-                      GoldenCase{"high_beacon_noise", "pf"}, GoldenCase{"high_beacon_noise", "ekf"},
-                      GoldenCase{"beacon_outage", "ekf+ceres"}, GoldenCase{"beacon_outage", "ekf"}),
-    [](const ::testing::TestParamInfo<GoldenCase>& i) {
-      std::string v = i.param.variant;
-      for (char& ch : v)
-        if (ch == '+') ch = '_';
-      return i.param.mission + "_" + v;
-    });
+INSTANTIATE_TEST_SUITE_P(Datasets, GoldenReplay,
+                         ::testing::Values(GoldenCase{"nominal", "ekf"}, GoldenCase{"nominal", "pf"},
+                                           GoldenCase{"high_beacon_noise", "pf"},
+                                           GoldenCase{"high_beacon_noise", "ekf"},
+                                           GoldenCase{"beacon_outage", "ekf+ceres"},
+                                           GoldenCase{"beacon_outage", "ekf"}),
+                         [](const ::testing::TestParamInfo<GoldenCase>& i) {
+                           std::string v = i.param.variant;
+                           for (char& ch : v)
+                             if (ch == '+') ch = '_';
+                           return i.param.mission + "_" + v;
+                         });
 
 TEST(RawlogReplay, RecordedEstimators_ReproduceTheLoggedBeliefsBitwise) {
   for (const std::string filter : {"ekf", "pf"}) {

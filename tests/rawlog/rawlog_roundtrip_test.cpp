@@ -56,7 +56,7 @@ TEST(RawlogRoundTrip, EveryObservationReadsBackEqualToWhatTheLoopProduced) {
   const RecordResult rec = record_mission(config, {path, 6, {}});
   Capture cap;
   const fusion::ClosedLoopRun run = fusion::run_closed_loop(config.placement, mission_start_positions_m(config),
-                                            config.closed_loop, config.seed, &cap);
+                                                            config.closed_loop, config.seed, &cap);
   ASSERT_EQ(run.run.iterations, rec.run.run.iterations);  // the recorder did not change the run
 
   // WHEN: read back object by object.
@@ -266,8 +266,11 @@ TEST(RawlogMissionConfig, TheExperimentsIni_LoadsWhenItsSectionsAreDeclaredKnown
 TEST(RawlogRecordApp, TheExperimentsIni_IsAMissionSource) {
   std::ostringstream out, err;
   const std::string path = temp_path("paper_ini.rawlog");
-  EXPECT_EQ(apps::run_record_app({test_support::source_path("datasets/configs/paper.ini"),
-                                  {"placement.max_iterations=1"}, path}, out, err), 0) << err.str();
+  EXPECT_EQ(
+      apps::run_record_app(
+          {test_support::source_path("datasets/configs/paper.ini"), {"placement.max_iterations=1"}, path}, out, err),
+      0)
+      << err.str();
   std::remove(path.c_str());
   std::remove(beacons_ini_path(path).c_str());
 }

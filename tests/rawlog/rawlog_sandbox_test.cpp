@@ -41,7 +41,8 @@ std::string odometry_log() {
     auto a = mrpt::serialization::archiveFrom(f);
     for (int k = 0; k < kActions; ++k) {
       mrpt::obs::CActionRobotMovement2D m;
-      m.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0.0, 0.01), mrpt::obs::CActionRobotMovement2D::TMotionModelOptions());
+      m.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0.0, 0.01),
+                            mrpt::obs::CActionRobotMovement2D::TMotionModelOptions());
       mrpt::obs::CActionCollection acts;
       acts.insert(m);
       mrpt::obs::CSensoryFrame sf;
@@ -95,9 +96,10 @@ TEST(RawlogSandbox, CrashInMrptsDeserializer_StopsNamingObjectOffsetAndClass) {
   EXPECT_EQ(static_cast<int>(c.objects.size()), 2 * kCrashAt);
   EXPECT_EQ(c.status.offset, offset);
   const std::string d = c.status.describe();
-  EXPECT_NE(d.find("stopped at object " + std::to_string(2 * kCrashAt) + " (uncompressed byte " +
-                   std::to_string(offset) + "): corrupt: mrpt::obs::CActionCollection: MRPT's parser crashed in the sandbox (SEGV"),
-            std::string::npos)
+  EXPECT_NE(
+      d.find("stopped at object " + std::to_string(2 * kCrashAt) + " (uncompressed byte " + std::to_string(offset) +
+             "): corrupt: mrpt::obs::CActionCollection: MRPT's parser crashed in the sandbox (SEGV"),
+      std::string::npos)
       << d;
   // AND: the sandbox serves the next log (a new child).
   EXPECT_EQ(read_rawlog_bytes(odometry_log()).status.stop, RawlogStop::kEnd);
@@ -128,7 +130,8 @@ TEST(RawlogSandbox, AllocationAboveTheMemoryLimit_StopsWithACleanError) {
   EXPECT_EQ(c.objects.size(), 1u);
   EXPECT_NE(c.status.stop, RawlogStop::kEnd);
   EXPECT_EQ(c.status.objects, 1);
-  EXPECT_NE(c.status.describe().find("stopped at object 1 (uncompressed byte "), std::string::npos) << c.status.describe();
+  EXPECT_NE(c.status.describe().find("stopped at object 1 (uncompressed byte "), std::string::npos)
+      << c.status.describe();
   EXPECT_NE(c.status.reason.find("CSensoryFrame"), std::string::npos) << c.status.reason;
 }
 

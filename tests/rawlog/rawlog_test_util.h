@@ -20,14 +20,15 @@ namespace losmimo::test_support {
 // beacon for epochs 3-6: every stream and an outage, in well under a second. `closed_loop_keys`:
 // further "key = value" lines of [closed_loop] (e.g. "faults = unresponsive:2:4\n").
 inline rawlog::MissionConfig small_mission(const std::string& filter = "ekf", bool refine = true,
-                                   const std::string& closed_loop_keys = "") {
+                                           const std::string& closed_loop_keys = "") {
   common::IniConfig ini = common::IniConfig::from_string(
       "[scenario]\nbs_rows = 2\nbs_cols = 2\nnum_uavs = 4\n"
       "[errors]\nsigma_act_m = 0.02\n"
       "[placement]\nmax_iterations = 12\n"
-      "[closed_loop]\nfilter = " + filter + "\nrefine = " + (refine ? "true" : "false") +
-      "\nnum_particles = 300\noutages = 1:3:4\n" + closed_loop_keys +
-      "[mission]\nseed = 11\nstart_seed = 5\n", "small_mission");
+      "[closed_loop]\nfilter = " +
+          filter + "\nrefine = " + (refine ? "true" : "false") + "\nnum_particles = 300\noutages = 1:3:4\n" +
+          closed_loop_keys + "[mission]\nseed = 11\nstart_seed = 5\n",
+      "small_mission");
   return rawlog::load_mission_config(ini);
 }
 
@@ -62,8 +63,6 @@ inline void write_file_bytes(const std::string& path, const std::string& bytes) 
   f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
-inline std::string source_path(const std::string& relative) {
-  return std::string(LOSMIMO_SOURCE_DIR) + "/" + relative;
-}
+inline std::string source_path(const std::string& relative) { return std::string(LOSMIMO_SOURCE_DIR) + "/" + relative; }
 
 }  // namespace losmimo::test_support

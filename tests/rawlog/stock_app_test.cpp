@@ -20,7 +20,7 @@ namespace {
 
 const std::string kLog = "/usr/share/mrpt/datasets/RO-SLAM_demo.rawlog";
 const std::string kIni = "/usr/share/mrpt/config_files/pf-localization/ro-localization-demo.ini";
-constexpr int kSettle = 10;            // estimates before the comparison
+constexpr int kSettle = 10;                // estimates before the comparison
 constexpr double kMaxRmsDistance_m = 0.2;  // stated bound; measured 0.006 m (the stock PF seeds from the clock)
 
 // The stock config, headless, with the rawlog path made absolute and the prior box around the
@@ -32,15 +32,24 @@ std::string corrected_config(const std::string& dir) {
   std::string line;
   while (std::getline(in, line)) {
     const auto starts = [&](const char* key) { return line.rfind(key, 0) == 0; };
-    if (starts("rawlog_file")) line = "rawlog_file=" + kLog;
-    else if (starts("SHOW_PROGRESS_3D_REAL_TIME")) line = "SHOW_PROGRESS_3D_REAL_TIME=false";
-    else if (starts("3DSceneFrequency")) line = "3DSceneFrequency=-1";
-    else if (starts("logOutput_dir")) line = "logOutput_dir=" + dir + "/logs";
-    else if (starts("init_PDF_min_x")) line = "init_PDF_min_x=-1";
-    else if (starts("init_PDF_max_x")) line = "init_PDF_max_x=1";
-    else if (starts("init_PDF_min_y")) line = "init_PDF_min_y=-1";
-    else if (starts("init_PDF_max_y")) line = "init_PDF_max_y=1";
-    else if (starts("init_PDF_mode")) line = "init_PDF_mode=1\ninit_PDF_min_yaw_deg=-10\ninit_PDF_max_yaw_deg=10";
+    if (starts("rawlog_file"))
+      line = "rawlog_file=" + kLog;
+    else if (starts("SHOW_PROGRESS_3D_REAL_TIME"))
+      line = "SHOW_PROGRESS_3D_REAL_TIME=false";
+    else if (starts("3DSceneFrequency"))
+      line = "3DSceneFrequency=-1";
+    else if (starts("logOutput_dir"))
+      line = "logOutput_dir=" + dir + "/logs";
+    else if (starts("init_PDF_min_x"))
+      line = "init_PDF_min_x=-1";
+    else if (starts("init_PDF_max_x"))
+      line = "init_PDF_max_x=1";
+    else if (starts("init_PDF_min_y"))
+      line = "init_PDF_min_y=-1";
+    else if (starts("init_PDF_max_y"))
+      line = "init_PDF_max_y=1";
+    else if (starts("init_PDF_mode"))
+      line = "init_PDF_mode=1\ninit_PDF_min_yaw_deg=-10\ninit_PDF_max_yaw_deg=10";
     out << line << "\n";
   }
   const std::string path = dir + "/pf.ini";

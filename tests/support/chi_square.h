@@ -69,8 +69,7 @@ struct Chi2Band {
   bool contains(double average) const { return average >= low && average <= high; }
 };
 inline Chi2Band chi2_average_band(double dof, double n, double confidence) {
-  return {chi2_quantile(dof * n, 0.5 * (1.0 - confidence)) / n,
-          chi2_quantile(dof * n, 0.5 * (1.0 + confidence)) / n};
+  return {chi2_quantile(dof * n, 0.5 * (1.0 - confidence)) / n, chi2_quantile(dof * n, 0.5 * (1.0 + confidence)) / n};
 }
 
 }  // namespace losmimo::test_support

@@ -45,8 +45,8 @@ inline bool debian_package_installed(const std::string& package) {
     valid = valid && ((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '+' || c == '.' || c == '-');
   }
   // dpkg's own place first: a test may run with a PATH that lacks the very tool it looks for.
-  const std::string dpkg_query = ::access("/usr/bin/dpkg-query", X_OK) == 0 ? "/usr/bin/dpkg-query"
-                                                                            : find_on_path("dpkg-query");
+  const std::string dpkg_query =
+      ::access("/usr/bin/dpkg-query", X_OK) == 0 ? "/usr/bin/dpkg-query" : find_on_path("dpkg-query");
   std::string status;
   if (valid && !dpkg_query.empty()) {
     const std::string cmd = dpkg_query + " -W -f='${db:Status-Status}' " + package + " 2>/dev/null";
@@ -76,7 +76,8 @@ inline Requirement requirement(bool present, bool package_installed, const std::
   }
   return {Verdict::kFail, what + " is missing although Debian package " + package +
                               " is installed: it should provide it (a wrong path, or a broken "
-                              "install: apt-get install --reinstall " + package + ")"};
+                              "install: apt-get install --reinstall " +
+                              package + ")"};
 }
 
 inline Requirement require(bool present, const std::string& package, const std::string& what) {
@@ -85,21 +86,19 @@ inline Requirement require(bool present, const std::string& package, const std::
 
 }  // namespace losmimo::test_support
 
-#define LOSMIMO_REQUIRE(present, package, what)                                                    \
-  if (const ::losmimo::test_support::Requirement losmimo_requirement_ =                            \
-          ::losmimo::test_support::require((present), (package), (what));                          \
-      losmimo_requirement_.verdict == ::losmimo::test_support::Verdict::kRun) {                    \
-  } else if (losmimo_requirement_.verdict == ::losmimo::test_support::Verdict::kSkip)              \
-    GTEST_SKIP() << losmimo_requirement_.message;                                                  \
-  else                                                                                             \
+#define LOSMIMO_REQUIRE(present, package, what)                                       \
+  if (const ::losmimo::test_support::Requirement losmimo_requirement_ =               \
+          ::losmimo::test_support::require((present), (package), (what));             \
+      losmimo_requirement_.verdict == ::losmimo::test_support::Verdict::kRun) {       \
+  } else if (losmimo_requirement_.verdict == ::losmimo::test_support::Verdict::kSkip) \
+    GTEST_SKIP() << losmimo_requirement_.message;                                     \
+  else                                                                                \
     FAIL() << losmimo_requirement_.message
 
-#define LOSMIMO_REQUIRE_FILE(path, package)                                                        \
-  LOSMIMO_REQUIRE(std::filesystem::exists(path), (package), std::string(path))
+#define LOSMIMO_REQUIRE_FILE(path, package) LOSMIMO_REQUIRE(std::filesystem::exists(path), (package), std::string(path))
 
-#define LOSMIMO_REQUIRE_PROGRAM(name, package)                                                     \
-  LOSMIMO_REQUIRE(!::losmimo::test_support::find_on_path(name).empty(), (package),                \
+#define LOSMIMO_REQUIRE_PROGRAM(name, package)                                     \
+  LOSMIMO_REQUIRE(!::losmimo::test_support::find_on_path(name).empty(), (package), \
                   std::string("the program ") + (name) + " on PATH")
 
-#define LOSMIMO_SKIP_MACHINE_DEPENDENT(reason) \
-  GTEST_SKIP() << ::losmimo::test_support::kMachineDependentTag << reason
+#define LOSMIMO_SKIP_MACHINE_DEPENDENT(reason) GTEST_SKIP() << ::losmimo::test_support::kMachineDependentTag << reason

@@ -26,19 +26,18 @@ void print_csv(const LinkMetrics& m, std::ostream& out) {
   out << std::setprecision(10);
   out << "stream,sinr_nv_db,sinr_zf_db,sinr_mf_db\n";
   for (Eigen::Index k = 0; k < m.sinr.nv.size(); ++k) {
-    out << k + 1 << "," << to_db(m.sinr.nv(k)) << "," << to_db(m.sinr.zf(k)) << ","
-        << to_db(m.sinr.mf(k)) << "\n";
+    out << k + 1 << "," << to_db(m.sinr.nv(k)) << "," << to_db(m.sinr.zf(k)) << "," << to_db(m.sinr.mf(k)) << "\n";
   }
-  out << "icn," << m.icn << "\nobjective," << m.objective << "\nsum_rate_nv_bps_hz,"
-      << m.sum_rate_nv_bps_hz << "\nsum_rate_zf_bps_hz," << m.sum_rate_zf_bps_hz << "\n";
+  out << "icn," << m.icn << "\nobjective," << m.objective << "\nsum_rate_nv_bps_hz," << m.sum_rate_nv_bps_hz
+      << "\nsum_rate_zf_bps_hz," << m.sum_rate_zf_bps_hz << "\n";
 }
 
 void print_table(const LinkMetrics& m, int nr, int num_antennas, std::ostream& out) {
   out << std::fixed << std::setprecision(2);
   out << "stream   NV SINR [dB]   ZF SINR [dB]   MF SINR [dB]\n";
   for (Eigen::Index k = 0; k < m.sinr.nv.size(); ++k) {
-    out << std::setw(6) << k + 1 << std::setw(15) << to_db(m.sinr.nv(k)) << std::setw(15)
-        << to_db(m.sinr.zf(k)) << std::setw(15) << to_db(m.sinr.mf(k)) << "\n";
+    out << std::setw(6) << k + 1 << std::setw(15) << to_db(m.sinr.nv(k)) << std::setw(15) << to_db(m.sinr.zf(k))
+        << std::setw(15) << to_db(m.sinr.mf(k)) << "\n";
   }
   out << std::setprecision(4) << "ICN                    " << m.icn << "\n"
       << std::scientific << "objective f            " << m.objective << std::fixed << "\n"
@@ -69,8 +68,8 @@ int run_eval_app(const EvalOptions& options, std::ostream& out, std::ostream& er
     for (Eigen::Index n = 0; n < q_m.cols(); ++n) {
       for (Eigen::Index k = 0; k < model.num_antennas(); ++k) {
         if ((q_m.col(n) - model.antennas_m().col(k)).norm() < 1e-3) {
-          throw common::InputError(options.positions_path + ": UAV " + std::to_string(n + 1) +
-                           " sits on BS antenna " + std::to_string(k + 1));
+          throw common::InputError(options.positions_path + ": UAV " + std::to_string(n + 1) + " sits on BS antenna " +
+                                   std::to_string(k + 1));
         }
       }
     }

@@ -39,7 +39,8 @@ namespace fs = std::filesystem;
 constexpr const char* kApp = "losmimo-experiment";
 
 ExperimentSettings load_settings(const ExperimentOptions& options, const ExperimentExtensions& extensions) {
-  common::IniConfig config = options.config_path.empty() ? common::IniConfig() : common::IniConfig::from_file(options.config_path);
+  common::IniConfig config =
+      options.config_path.empty() ? common::IniConfig() : common::IniConfig::from_file(options.config_path);
   for (const std::string& o : options.overrides) config.set_override(o);
   // Named after their option in messages, not "--set".
   if (options.trials > 0) config.set("experiment", "trials", std::to_string(options.trials), "--trials");
@@ -59,8 +60,7 @@ ExperimentSettings load_settings(const ExperimentOptions& options, const Experim
 }
 
 int threads_of(const ExperimentSettings& settings) {
-  return settings.threads > 0 ? settings.threads
-                              : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return settings.threads > 0 ? settings.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
 // The trials of `point` that are the slice's jobs.
@@ -124,9 +124,10 @@ bool load_checkpoint(const StagedDir& staged, const ExperimentOptions& options, 
   if (options.shard) {
     const auto [i, n] = parse_shard(*options.shard);
     if (!shard || i != c.header.shard_index || n != c.header.shard_count) {
-      throw InputError("--shard " + *options.shard + ": the interrupted run in " + dir.string() + " is " +
-                       (shard ? "shard " + std::to_string(c.header.shard_index) + "/" + std::to_string(c.header.shard_count)
-                              : std::string("a whole run")));
+      throw InputError(
+          "--shard " + *options.shard + ": the interrupted run in " + dir.string() + " is " +
+          (shard ? "shard " + std::to_string(c.header.shard_index) + "/" + std::to_string(c.header.shard_count)
+                 : std::string("a whole run")));
     }
   }
   slice.shard_index = c.header.shard_index;
@@ -152,7 +153,8 @@ int run_collective(const ExperimentOptions& options, const ExperimentExtensions&
     slice.traces = false;
     detail::Progress progress(err);
     RecordsWriter writer;
-    mine = "isa " + isa + "\n" + writer.header({kRecordsKindShard, collective.rank, collective.size, config_digest(settings)});
+    mine = "isa " + isa + "\n" +
+           writer.header({kRecordsKindShard, collective.rank, collective.size, config_digest(settings)});
     run_experiment(settings, extensions, threads, slice, root ? ProgressFn(std::ref(progress)) : ProgressFn(),
                    [&](int point, const std::vector<TrialRecord>& rows) { mine += writer.point(point, rows); });
     mine += writer.end();
@@ -175,7 +177,8 @@ int run_collective(const ExperimentOptions& options, const ExperimentExtensions&
     std::istringstream in(all[r].substr(eol + 1));
     shards.push_back(read_records(in, origins.back(), RecordsMode::kComplete));
     const RecordsHeader& h = shards.back().header;
-    if (h.shard_index != static_cast<int>(r) || h.shard_count != collective.size || h.config_digest != config_digest(settings)) {
+    if (h.shard_index != static_cast<int>(r) || h.shard_count != collective.size ||
+        h.config_digest != config_digest(settings)) {
       throw std::runtime_error(origins.back() + ": its records are not this run's rank " + std::to_string(r));
     }
   }
@@ -194,12 +197,13 @@ int run_collective(const ExperimentOptions& options, const ExperimentExtensions&
 
 }  // namespace
 
-int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensions& extensions,
-                       std::ostream& out, std::ostream& err) {
+int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensions& extensions, std::ostream& out,
+                       std::ostream& err) {
   ExperimentSettings settings;
   ExperimentSlice slice;
   const bool resume = options.resume_dir.has_value();
-  const ExperimentCollective* collective = options.collective && options.collective->size > 1 ? options.collective : nullptr;
+  const ExperimentCollective* collective =
+      options.collective && options.collective->size > 1 ? options.collective : nullptr;
   std::string dir;
   std::optional<StagedDir> staged;
   std::string isa;
@@ -207,7 +211,8 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
   // Everything that can be wrong with the input is found here, before any work or any file.
   try {
     if (options.out_dir && options.out_dir->empty()) throw InputError("--out '': an output folder is required");
-    if (resume && options.resume_dir->empty()) throw InputError("--resume '': the folder of an interrupted run is required");
+    if (resume && options.resume_dir->empty())
+      throw InputError("--resume '': the folder of an interrupted run is required");
     dir = resume ? resume_target(*options.resume_dir) : options.out_dir.value_or("results");
     if (resume && options.out_dir && !same_folder(*options.out_dir, dir)) {
       throw InputError("--out " + *options.out_dir + ": --resume " + dir + " finishes the run in " + dir +

@@ -28,8 +28,8 @@ class Progress {
     if (tty_) {
       constexpr int kWidth = 30;
       const int filled = kWidth * done / total;
-      err_ << "\r[" << std::string(filled, '#') << std::string(kWidth - filled, '.') << "] " << done << "/"
-           << total << "  " << std::fixed << std::setprecision(0) << elapsed << " s, ETA " << eta << " s   "
+      err_ << "\r[" << std::string(filled, '#') << std::string(kWidth - filled, '.') << "] " << done << "/" << total
+           << "  " << std::fixed << std::setprecision(0) << elapsed << " s, ETA " << eta << " s   "
            << (done == total ? "\n" : "") << std::flush;
     } else {
       err_ << "point " << done << "/" << total << " done (" << label << "), " << std::fixed << std::setprecision(1)
@@ -67,14 +67,14 @@ inline void finish_and_publish(common::StagedDir& staged, const std::string& kin
                                bool trial_files_written, std::ostream& out, std::ostream& err) {
   namespace fs = std::filesystem;
   common::write_file_atomically((staged.path() / "config.ini").string(), experiment::to_ini(settings));
-  const std::vector<std::string> warnings = experiment::finish_outputs(settings, extensions, results, staged.path().string(),
-                                                                       timing, trial_files_written);
+  const std::vector<std::string> warnings =
+      experiment::finish_outputs(settings, extensions, results, staged.path().string(), timing, trial_files_written);
   // The checkpoint goes last: until the outputs are complete, --resume can finish them.
   fs::remove(staged.path() / "records.partial");
   staged.publish(experiment_manifest(kind, settings, results.records.size()));
   for (const std::string& w : warnings) err << "losmimo-experiment: warning: " << w << "\n";
-  out << "losmimo-experiment: " << results.records.size() << " trial rows, " << settings.trials
-      << " trials per point, " << experiment::describe(timing) << "; results in " << staged.final_path().string()
+  out << "losmimo-experiment: " << results.records.size() << " trial rows, " << settings.trials << " trials per point, "
+      << experiment::describe(timing) << "; results in " << staged.final_path().string()
       << "/ (report.md, summary.csv, trials.csv, fig*.png)\n";
 }
 

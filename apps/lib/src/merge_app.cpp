@@ -37,7 +37,8 @@ common::IniConfig shard_manifest(const std::string& dir) {
   const common::IniConfig m = common::read_manifest(dir);
   const std::string kind = m.get_string("run", "kind", "");
   if (kind != "shard") {
-    throw InputError(dir + ": holds a finished " + kind + ", not a shard (merge takes the folders of --shard i/N runs)");
+    throw InputError(dir + ": holds a finished " + kind +
+                     ", not a shard (merge takes the folders of --shard i/N runs)");
   }
   common::verify_manifest_files(dir, m);
   if (!m.has("shard", "count") || !m.has("shard", "index")) {
@@ -120,7 +121,8 @@ int merge_experiment_app(const MergeOptions& options, const ExperimentExtensions
     return report_current_exception(err, kApp);
   }
   try {
-    common::StagedDir staged = common::StagedDir::create(options.out_dir, options.replace, common::StaleStaging::kDiscard);
+    common::StagedDir staged =
+        common::StagedDir::create(options.out_dir, options.replace, common::StaleStaging::kDiscard);
     results.traces = traced_runs(settings);
     timing.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     timing.shards = static_cast<int>(options.shard_dirs.size());

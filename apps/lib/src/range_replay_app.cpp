@@ -35,8 +35,7 @@ std::vector<double> numbers(const std::string& text, std::size_t count, const st
   std::string item;
   while (std::getline(s, item, ',')) v.push_back(common::parse_double(item, option, option));
   if (v.size() != count) {
-    throw common::InputError(option + " '" + text + "': expected " + std::to_string(count) +
-                                 " comma-separated numbers",
+    throw common::InputError(option + " '" + text + "': expected " + std::to_string(count) + " comma-separated numbers",
                              option);
   }
   return v;
@@ -82,7 +81,8 @@ RangeReplayOptions range_options(const ReplayAppOptions& o, const MrptAppConfig*
   const int particles = o.particles != 0 ? o.particles : (cfg && cfg->particles ? *cfg->particles : 1000);
   if (particles < 10) throw common::InputError("--particles " + std::to_string(particles) + ": must be >= 10");
   ro.config.filter.num_particles = particles;
-  if (o.settle_steps < 0) throw common::InputError("--settle-steps " + std::to_string(o.settle_steps) + ": must be >= 0");
+  if (o.settle_steps < 0)
+    throw common::InputError("--settle-steps " + std::to_string(o.settle_steps) + ": must be >= 0");
   ro.settle_steps = o.settle_steps;
   if (!o.initial_pose.empty()) {
     const std::vector<double> p = numbers(o.initial_pose, 3, "--initial-pose");
@@ -107,13 +107,16 @@ int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std
   try {
     if (!options.mrpt_config.empty()) cfg = read_mrpt_app_config(options.mrpt_config);
     ro = range_options(options, cfg ? &*cfg : nullptr);
-    if (options.out_given && options.out_dir.empty()) throw common::InputError("--out '': an output folder is required");
-    if (!options.out_dir.empty()) common::StagedDir::check(options.out_dir, options.replace, common::StaleStaging::kDiscard);
+    if (options.out_given && options.out_dir.empty())
+      throw common::InputError("--out '': an output folder is required");
+    if (!options.out_dir.empty())
+      common::StagedDir::check(options.out_dir, options.replace, common::StaleStaging::kDiscard);
     if (!options.beacons_path.empty()) {
       beacons = read_beacon_list(options.beacons_path);
     } else if (cfg->beacons.empty()) {
-      throw common::InputError(options.mrpt_config +
-                               ": no beacon map ([MetricMap_landmarksMap_00_creationOpts] nBeacons); give --beacons FILE");
+      throw common::InputError(
+          options.mrpt_config +
+          ": no beacon map ([MetricMap_landmarksMap_00_creationOpts] nBeacons); give --beacons FILE");
     } else {
       beacons = cfg->beacons;
     }

@@ -29,17 +29,18 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
   MissionConfig config;
   std::optional<common::StagedFile> staged, staged_beacons;
   try {
-    common::IniConfig ini = options.config_path.empty()
-                                   ? common::IniConfig()
-                                   : common::IniConfig::from_file(options.config_path);
+    common::IniConfig ini =
+        options.config_path.empty() ? common::IniConfig() : common::IniConfig::from_file(options.config_path);
     for (const std::string& o : options.overrides) ini.set_override(o);
     // An experiment config (e.g. datasets/configs/paper.ini) is a valid mission source too; its
     // [experiment] keys are not used here, but checked like everything else.
     const experiment::ExperimentExtensions extensions = coevaluation::experiment_extensions();
     config = load_mission_config(ini, experiment::experiment_config_keys(extensions));
     std::set<std::string> experiment_sections;
-    for (const auto& [section, keys] : experiment::experiment_config_keys(extensions)) experiment_sections.insert(section);
-    if (ini.has_section("experiment")) experiment::load_experiment_settings(ini.subset(experiment_sections), extensions);
+    for (const auto& [section, keys] : experiment::experiment_config_keys(extensions))
+      experiment_sections.insert(section);
+    if (ini.has_section("experiment"))
+      experiment::load_experiment_settings(ini.subset(experiment_sections), extensions);
     KeyUser record{"losmimo-record", {}};
     if (config.closed_loop.filter_kind == localization::FilterKind::kEkf) record.conditions.push_back(kEkfFilter);
     if (!config.closed_loop.refine) record.conditions.push_back(kNoRefinement);
@@ -70,10 +71,10 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
         throw std::runtime_error(staged_beacons->path() + ": cannot write");
     }
     staged_beacons->publish();
-    out << "losmimo-record: " << options.out_path << ": " << r.objects << " objects ("
-        << r.uncompressed_bytes << " bytes uncompressed), " << r.epochs << " epochs, "
-        << r.run.run.iterations << " iterations, " << placement::to_string(r.run.run.status)
-        << ", final ICN " << (r.run.run.trace.empty() ? 0.0 : r.run.run.trace.back().icn) << "\n"
+    out << "losmimo-record: " << options.out_path << ": " << r.objects << " objects (" << r.uncompressed_bytes
+        << " bytes uncompressed), " << r.epochs << " epochs, " << r.run.run.iterations << " iterations, "
+        << placement::to_string(r.run.run.status) << ", final ICN "
+        << (r.run.run.trace.empty() ? 0.0 : r.run.run.trace.back().icn) << "\n"
         << "losmimo-record: beacon map for stock MRPT apps: " << staged_beacons->final_path() << "\n";
     if (r.run.run.faulted()) {  // the log is complete up to the fault (END_OF_LOG has the status)
       err << "losmimo-record: run ended by a fault: " << r.run.run.fault << "\n";

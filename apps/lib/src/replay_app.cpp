@@ -46,7 +46,8 @@ std::string unusable_foreign_log(const MissionLog& log) {
   std::string classes;
   for (const auto& [key, n] : log.skipped) classes += (classes.empty() ? "" : ", ") + key + " x " + std::to_string(n);
   return "no usable measurement: no beacon observation (CObservationBearingRange or CObservationBeaconRanges); "
-         "skipped: " + (classes.empty() ? std::string("nothing") : classes);
+         "skipped: " +
+         (classes.empty() ? std::string("nothing") : classes);
 }
 }  // namespace
 
@@ -61,8 +62,10 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
     }
     if (options.refine && options.no_refine) throw common::InputError("--refine and --no-refine together");
     kernel_isa_name();  // a bad LOSMIMO_ISA stops here, exit code 2
-    if (options.out_given && options.out_dir.empty()) throw common::InputError("--out '': an output folder is required");
-    if (!options.out_dir.empty()) common::StagedDir::check(options.out_dir, options.replace, common::StaleStaging::kDiscard);
+    if (options.out_given && options.out_dir.empty())
+      throw common::InputError("--out '': an output folder is required");
+    if (!options.out_dir.empty())
+      common::StagedDir::check(options.out_dir, options.replace, common::StaleStaging::kDiscard);
   } catch (...) {
     return report_current_exception(err, kApp);
   }

@@ -36,8 +36,8 @@ inline int report_replay_error(std::ostream& err, const std::string& app, const 
 // Writes the outputs with `write` (given the staging folder) and publishes them as `out_dir`;
 // nothing when out_dir is empty. Returns kExitOk, or the exit code after printing why not.
 inline int publish_replay_outputs(const std::string& out_dir, bool replace, bool complete, int exit_code,
-                                  const std::function<void(const std::filesystem::path&)>& write,
-                                  std::ostream& err, const std::string& app) {
+                                  const std::function<void(const std::filesystem::path&)>& write, std::ostream& err,
+                                  const std::string& app) {
   if (out_dir.empty()) return kExitOk;
   try {
     common::StagedDir staged = common::StagedDir::create(out_dir, replace, common::StaleStaging::kDiscard);

@@ -48,7 +48,9 @@ const std::vector<UnusedKeys>& unused_keys() {
         "scenario.cube_center_z_m"},
        {kEval},
        "the UAVs are the positions file's"},
-      {{"errors.*", "placement.*", "gd.*", "bf.*", "ura.*", "cap.*"}, {kEval}, "it evaluates given positions: no placement runs"},
+      {{"errors.*", "placement.*", "gd.*", "bf.*", "ura.*", "cap.*"},
+       {kEval},
+       "it evaluates given positions: no placement runs"},
       {{"channel.coherence_iterations", "channel.fading_eval_draws"},
        {kEval, kRecord, kBeaconNoise, kBeaconOutage},
        "it models the LoS channel with perfect CSI (no fading to draw)"},
@@ -78,7 +80,9 @@ const std::vector<UnusedKeys>& unused_keys() {
       {{"errors.sigma_act_m"}, {kSigmaAct}, "the sweep sets it (experiment.sigma_act_values_m)"},
       {{"channel.rician_k_db"}, {kRicianK}, "the sweep sets it (experiment.rician_k_db_values)"},
       {{"channel.csi_snr_db"}, {kCsiSnr}, "the sweep sets it (experiment.csi_snr_db_values)"},
-      {{"scenario.bs_rows", "scenario.bs_cols"}, {kBsAntennas}, "the sweep sets the array (experiment.bs_antennas_values)"},
+      {{"scenario.bs_rows", "scenario.bs_cols"},
+       {kBsAntennas},
+       "the sweep sets the array (experiment.bs_antennas_values)"},
       {{"errors.sigma_loc_m"},
        {kBeaconNoise, kBeaconOutage, kRecord},
        "the position estimates are the filters' (gd_gauss's sigma_loc_m is the beacon_noise_m point)"},
@@ -96,7 +100,9 @@ const std::vector<UnusedKeys>& unused_keys() {
       {{"gd.*"}, {kNoGd}, "the built-in and channel sweeps run GD only when [experiment] algorithms lists gd"},
       {{"bf.*"}, {kNoBf}, "the built-in and channel sweeps run BF only when [experiment] algorithms lists bf"},
       {{"placement.milestone_distance_includes_probes"}, {kNoBf}, "only BF flies probes"},
-      {{"cap.*"}, {kNoCap}, "the built-in and channel sweeps run the capacity planner only when [experiment] algorithms lists cap"},
+      {{"cap.*"},
+       {kNoCap},
+       "the built-in and channel sweeps run the capacity planner only when [experiment] algorithms lists cap"},
       {{"ura.*"},
        {kNoUra},
        "the built-in and channel sweeps run a URA only when [experiment] algorithms lists ura, ura_lattice or "
@@ -207,7 +213,8 @@ void refuse_unused_overrides(const common::IniConfig& config, const std::vector<
         const bool listed = std::any_of(entry.keys.begin(), entry.keys.end(),
                                         [&](const std::string& p) { return key_matches(p, section, key); });
         const auto names_user = [&](const std::string& u) {
-          return u == user.name || std::find(user.conditions.begin(), user.conditions.end(), u) != user.conditions.end();
+          return u == user.name ||
+                 std::find(user.conditions.begin(), user.conditions.end(), u) != user.conditions.end();
         };
         if (!listed || std::none_of(entry.users.begin(), entry.users.end(), names_user)) continue;
         unused_here = true;

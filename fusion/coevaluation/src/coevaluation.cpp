@@ -75,10 +75,10 @@ double fallback_fraction(const fusion::ClosedLoopStats& s, int iterations) {
   return uav_iterations > 0.0 ? bf / uav_iterations : 0.0;
 }
 
-experiment::TrialRecord closed_loop_record(const experiment::ExperimentSettings& s, const std::string& sweep, int point, int trial, CoevalAlgorithm a,
-                                          const fusion::ClosedLoopConfig& config) {
-  const fusion::ClosedLoopRun r = fusion::run_closed_loop(s.placement, experiment::trial_start_positions_m(s, trial), config,
-                                          experiment::trial_seed(s, sweep, point, trial));
+experiment::TrialRecord closed_loop_record(const experiment::ExperimentSettings& s, const std::string& sweep, int point,
+                                           int trial, CoevalAlgorithm a, const fusion::ClosedLoopConfig& config) {
+  const fusion::ClosedLoopRun r = fusion::run_closed_loop(s.placement, experiment::trial_start_positions_m(s, trial),
+                                                          config, experiment::trial_seed(s, sweep, point, trial));
   experiment::TrialRecord rec = experiment::make_record(s, sweep, point, trial, to_string(a), r.run);
   rec.extension.set(kLocRmse, r.stats.rmse_m);
   rec.extension.set(kLocLateralRmse, r.stats.lateral_rmse_m);
@@ -100,9 +100,10 @@ class EkfPositionSource {
     const localization::Belief prior = localization::start_cube_prior(scenario, filter);
     for (int m = 0; m < num_uavs; ++m) {
       const auto uav = static_cast<std::uint64_t>(m);
-      uavs_.push_back({localization::SensorSimulator(sim, common::derive_seed(seed, {kUraSimulatorStream, uav})),
-                       fusion::UavEstimator(scenario, estimator, prior, common::derive_seed(seed, {kUraFilterStream, uav})),
-                       Eigen::Vector3d::Zero(), 0});
+      uavs_.push_back(
+          {localization::SensorSimulator(sim, common::derive_seed(seed, {kUraSimulatorStream, uav})),
+           fusion::UavEstimator(scenario, estimator, prior, common::derive_seed(seed, {kUraFilterStream, uav})),
+           Eigen::Vector3d::Zero(), 0});
     }
   }
 
@@ -147,7 +148,7 @@ placement::RunResult centralized_run(const placement::Scenario& scenario, const 
   placement::RunResult r;
   r.planner = "centralized";
   r.status = c.status == fusion::CentralizedStatus::kFeasible ? placement::RunStatus::kConverged
-                                                      : placement::RunStatus::kIterationCap;
+                                                              : placement::RunStatus::kIterationCap;
   r.iterations = 0;
   r.start_m = start_m;
   r.final_m = c.positions_m;
@@ -183,7 +184,7 @@ class CentralizedCache {
   // The solution for `key`, solving (outside the lock) when absent. The solve is deterministic,
   // so a duplicate solve by a second thread changes nothing.
   std::shared_ptr<const fusion::CentralizedResult> get(const std::string& key,
-                                               const std::function<fusion::CentralizedResult()>& solve) {
+                                                       const std::function<fusion::CentralizedResult()>& solve) {
     {
       const std::lock_guard<std::mutex> lock(mutex_);
       const auto it = results_.find(key);
@@ -199,8 +200,9 @@ class CentralizedCache {
   std::map<std::string, std::shared_ptr<const fusion::CentralizedResult>> results_;
 };
 
-fusion::ClosedLoopConfig coevaluation_closed_loop_config(const CoevaluationSettings& c, const placement::Scenario& scenario,
-                                                 CoevalAlgorithm a, double beacon_noise_m) {
+fusion::ClosedLoopConfig coevaluation_closed_loop_config(const CoevaluationSettings& c,
+                                                         const placement::Scenario& scenario, CoevalAlgorithm a,
+                                                         double beacon_noise_m) {
   if (a != CoevalAlgorithm::kGdEkf && a != CoevalAlgorithm::kGdEkfNoFallback && a != CoevalAlgorithm::kGdPf &&
       a != CoevalAlgorithm::kGdEkfCeres) {
     throw std::invalid_argument("coevaluation_closed_loop_config: " + to_string(a) + " is not a closed loop");
@@ -208,7 +210,8 @@ fusion::ClosedLoopConfig coevaluation_closed_loop_config(const CoevaluationSetti
   fusion::ClosedLoopConfig config;
   config.simulator = simulator_config(c, scenario, beacon_noise_m);
   config.filter = filter_config(c, config.simulator);
-  config.filter_kind = a == CoevalAlgorithm::kGdPf ? localization::FilterKind::kParticle : localization::FilterKind::kEkf;
+  config.filter_kind =
+      a == CoevalAlgorithm::kGdPf ? localization::FilterKind::kParticle : localization::FilterKind::kEkf;
   config.refine = a == CoevalAlgorithm::kGdEkfCeres;
   config.refinement = fusion::refinement_config_from(config.filter.noise, scenario.noise_variance());
   config.refinement.window_epochs = c.closed_loop.refinement.window_epochs;
@@ -226,7 +229,7 @@ std::vector<int> outage_uavs(int num_lost, int num_uavs) {
 }
 
 std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::ExperimentSettings& s, int point,
-                                                           int trial, CentralizedCache* cache) {
+                                                            int trial, CentralizedCache* cache) {
   const experiment::SweepPoints* sweep = s.sweep(kSweepBeaconNoise);
   if (!sweep) throw std::invalid_argument("run_beacon_noise_trial: the settings have no beacon_noise_m sweep");
   const CoevaluationSettings c = load_coevaluation_settings(s);
@@ -296,8 +299,8 @@ std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::Ex
         fusion::CentralizedConfig cc;
         cc.target_icn = s.placement.run.target_icn;
         const auto solve = [&] { return fusion::solve_centralized(scenario, start, cc); };
-        const std::string key = placement::to_ini(s.placement) + "#start " +
-                                std::to_string(experiment::trial_start_seed(s, trial));
+        const std::string key =
+            placement::to_ini(s.placement) + "#start " + std::to_string(experiment::trial_start_seed(s, trial));
         const std::shared_ptr<const fusion::CentralizedResult> solution =
             cache ? cache->get(key, solve) : std::make_shared<const fusion::CentralizedResult>(solve());
         not_applicable(record(centralized_run(scenario, start, *solution)),
@@ -320,7 +323,8 @@ std::vector<experiment::TrialRecord> run_outage_trial(const experiment::Experime
   const int num_lost = static_cast<int>(sweep->values.at(static_cast<std::size_t>(point)));
   std::vector<experiment::TrialRecord> records;
   for (const CoevalAlgorithm a : c.outage_algorithms) {
-    fusion::ClosedLoopConfig config = coevaluation_closed_loop_config(c, s.placement.scenario, a, c.outage_beacon_noise_m);
+    fusion::ClosedLoopConfig config =
+        coevaluation_closed_loop_config(c, s.placement.scenario, a, c.outage_beacon_noise_m);
     config.filter.degraded_after_epochs = c.outage_degraded_after_epochs;
     for (const int m : outage_uavs(num_lost, s.placement.scenario.num_uavs)) {
       config.outages.push_back({m, {c.outage_first_epoch, c.outage_epochs}});
@@ -336,7 +340,9 @@ experiment::ExperimentExtension beacon_noise_extension() {
   e.sweep = kSweepBeaconNoise;
   e.config_keys = coevaluation_config_keys();
   e.metrics = coevaluation_metrics();
-  e.load_values = [](const experiment::ExperimentSettings& s) { return load_coevaluation_settings(s).beacon_noise_values_m; };
+  e.load_values = [](const experiment::ExperimentSettings& s) {
+    return load_coevaluation_settings(s).beacon_noise_values_m;
+  };
   e.run = [cache](const experiment::ExperimentSettings& s, int point, int trial) {
     return run_beacon_noise_trial(s, point, trial, cache.get());
   };

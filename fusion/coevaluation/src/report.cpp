@@ -56,10 +56,15 @@ const SummaryRow* find_row(const std::vector<SummaryRow>& rows, const std::strin
 }
 
 const char* color(const std::string& algorithm) {
-  static const std::pair<const char*, const char*> kColors[] = {
-      {"gd_gauss", "#1f77b4"}, {"gd_ekf", "#ff7f0e"},       {"gd_pf", "#2ca02c"},
-      {"gd_ekf_ceres", "#d62728"}, {"bf", "#9467bd"},      {"ura_ekf", "#8c564b"},
-      {"centralized", "#000000"}, {"gd_ekf_nofallback", "#e377c2"}, {"gd_gauss_matched", "#17becf"}};
+  static const std::pair<const char*, const char*> kColors[] = {{"gd_gauss", "#1f77b4"},
+                                                                {"gd_ekf", "#ff7f0e"},
+                                                                {"gd_pf", "#2ca02c"},
+                                                                {"gd_ekf_ceres", "#d62728"},
+                                                                {"bf", "#9467bd"},
+                                                                {"ura_ekf", "#8c564b"},
+                                                                {"centralized", "#000000"},
+                                                                {"gd_ekf_nofallback", "#e377c2"},
+                                                                {"gd_gauss_matched", "#17becf"}};
   for (const auto& [name, c] : kColors) {
     if (algorithm == name) return c;
   }
@@ -72,8 +77,8 @@ std::string converged(const SummaryRow& r) {
 
 // One gnuplot data block per algorithm: value, then mean and ci95 of each metric
 // (kConvergedFraction is the row's own field, with ci 0).
-std::string dat(const std::vector<SummaryRow>& rows, const std::string& sweep, const std::vector<std::string>& algorithms,
-                const std::vector<MetricId>& columns) {
+std::string dat(const std::vector<SummaryRow>& rows, const std::string& sweep,
+                const std::vector<std::string>& algorithms, const std::vector<MetricId>& columns) {
   std::ostringstream o;
   o.precision(10);
   for (const std::string& a : algorithms) {
@@ -115,7 +120,8 @@ std::string two_metric_plot(const std::string& dat_file, const std::vector<std::
     const std::string c = color(algorithms[i]);
     g << (i ? ", " : "") << "'" << dat_file << "' index " << i << " using 1:2:3 with yerrorlines lw 2 dt 1 lc rgb '"
       << c << "' title '" << algorithms[i] << " " << solid << "', '' index " << i
-      << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '" << c << "' title '" << algorithms[i] << " " << dotted << "'";
+      << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '" << c << "' title '" << algorithms[i] << " " << dotted
+      << "'";
   }
   return g.str();
 }
@@ -136,20 +142,21 @@ std::vector<std::string> write_beacon_noise_figures(const experiment::Experiment
   const std::string xlabel = "set xlabel 'beacon-only cross-range error per axis at R [m]'\n";
 
   common::write_file_atomically((dir / "coeval_sinr.dat").string(),
-                                   dat(rows, kSweepBeaconNoise, algorithms, {metrics::kSinrNvDb, metrics::kSinrZfDb}));
+                                dat(rows, kSweepBeaconNoise, algorithms, {metrics::kSinrNvDb, metrics::kSinrZfDb}));
   common::write_file_atomically(
       (dir / "coeval_sinr.gp").string(),
       gp_header("coeval_sinr.png") + "set title 'Final SINR of stream 1 (NV solid, ZF dotted)'\n" + xlabel +
           "set ylabel 'SINR [dB]'\n" + two_metric_plot("coeval_sinr.dat", algorithms, "NV", "ZF") + "\n");
 
   // Every algorithm moves (centralized's milestones are along its straight flight).
-  common::write_file_atomically((dir / "coeval_travel.dat").string(),
-                                   dat(rows, kSweepBeaconNoise, algorithms, {metrics::kDistToIcn050M, metrics::kDistToIcn095M}));
   common::write_file_atomically(
-      (dir / "coeval_travel.gp").string(),
-      gp_header("coeval_travel.png") + "set title 'Mean distance per UAV to ICN 0.5 (solid) and 0.95 (dotted)'\n" +
-          xlabel + "set ylabel 'distance per UAV [m]'\n" +
-          two_metric_plot("coeval_travel.dat", algorithms, "ICN 0.5", "ICN 0.95") + "\n");
+      (dir / "coeval_travel.dat").string(),
+      dat(rows, kSweepBeaconNoise, algorithms, {metrics::kDistToIcn050M, metrics::kDistToIcn095M}));
+  common::write_file_atomically((dir / "coeval_travel.gp").string(),
+                                gp_header("coeval_travel.png") +
+                                    "set title 'Mean distance per UAV to ICN 0.5 (solid) and 0.95 (dotted)'\n" +
+                                    xlabel + "set ylabel 'distance per UAV [m]'\n" +
+                                    two_metric_plot("coeval_travel.dat", algorithms, "ICN 0.5", "ICN 0.95") + "\n");
 
   // RMSE and NEES of the estimators (algorithms without estimates have nan blocks).
   std::vector<std::string> estimators;
@@ -163,7 +170,8 @@ std::vector<std::string> write_beacon_noise_figures(const experiment::Experiment
       dat(rows, kSweepBeaconNoise, estimators, {kLocLateralRmse, kLocRmse, kNees, kBeaconLateralRmse}));
   std::ostringstream g;
   g << gp_header("coeval_rmse.png", 1400, 600) << "set multiplot layout 1,2\n"
-    << xlabel << "set title 'Localization RMSE (lateral solid, 3-D dotted)'\nset ylabel 'RMSE [m]'\nset key inside top left\n"
+    << xlabel
+    << "set title 'Localization RMSE (lateral solid, 3-D dotted)'\nset ylabel 'RMSE [m]'\nset key inside top left\n"
     << two_metric_plot("coeval_rmse.dat", estimators, "lateral", "3-D");
   for (std::size_t i = 0; i < estimators.size(); ++i) {
     if (estimators[i].rfind("gd_gauss", 0) == 0) continue;  // the Gaussian model has no NEES
@@ -171,7 +179,8 @@ std::vector<std::string> write_beacon_noise_figures(const experiment::Experiment
     break;
   }
   // Log scale: a filter that cannot represent a near-perfect beacon (the PF at 0) is off by decades.
-  g << "\nset title 'Average NEES (3 = consistent)'\nset ylabel 'NEES'\nset logscale y\nset key inside top right\nplot ";
+  g << "\nset title 'Average NEES (3 = consistent)'\nset ylabel 'NEES'\nset logscale y\nset key inside top "
+       "right\nplot ";
   bool first = true;
   for (std::size_t i = 0; i < estimators.size(); ++i) {
     if (estimators[i].rfind("gd_gauss", 0) == 0) continue;  // the Gaussian model has no NEES
@@ -236,7 +245,8 @@ std::string beacon_noise_report_section(const experiment::ExperimentSettings& s,
   md << "## Co-evaluation: beacon noise (`beacon_noise_m`)\n\n"
      << "The swept value is the beacon-only cross-range error per axis at R = "
      << fmt(s.placement.scenario.range_m(), 0) << " m (beacon angle sigma = value / R; range sigma "
-     << fmt(c.closed_loop.simulator.sigma_range_m, 3) << " m). `gd_gauss` is the paper's GD with sigma_loc = value (same "
+     << fmt(c.closed_loop.simulator.sigma_range_m, 3)
+     << " m). `gd_gauss` is the paper's GD with sigma_loc = value (same "
      << "per-axis lateral error as the beacon-only fix); the filters assume the true noise. "
      << "Actuation error sigma_act = " << fmt(s.placement.errors.sigma_act_m, 3) << " m. All algorithms "
      << "from the same " << s.trials << " starts per point with paired seeds; `centralized` is the Ceres "
@@ -254,11 +264,12 @@ std::string beacon_noise_report_section(const experiment::ExperimentSettings& s,
       const SummaryRow* r = find_row(rows, kSweepBeaconNoise, v, a);
       if (!r) continue;
       md << "| " << a << " | " << fmt(v, 3) << " | " << converged(*r) << " | "
-         << fmt_estimate(r->metric(metrics::kDistToIcn050M)) << " | " << fmt_estimate(r->metric(metrics::kDistToIcn095M))
-         << " | " << fmt_estimate(r->metric(metrics::kSinrNvDb)) << " | " << fmt_estimate(r->metric(metrics::kSinrZfDb)) << " | "
-         << fmt_estimate(r->metric(metrics::kSinrMfDb)) << " | " << fmt_estimate(r->metric(kLocLateralRmse), 3) << " | "
-         << fmt_estimate(r->metric(kLocRmse), 3) << " | " << fmt_estimate(r->metric(kNees)) << " | "
-         << fmt_estimate(r->metric(kBfFallbackFraction), 3) << " |\n";
+         << fmt_estimate(r->metric(metrics::kDistToIcn050M)) << " | "
+         << fmt_estimate(r->metric(metrics::kDistToIcn095M)) << " | " << fmt_estimate(r->metric(metrics::kSinrNvDb))
+         << " | " << fmt_estimate(r->metric(metrics::kSinrZfDb)) << " | " << fmt_estimate(r->metric(metrics::kSinrMfDb))
+         << " | " << fmt_estimate(r->metric(kLocLateralRmse), 3) << " | " << fmt_estimate(r->metric(kLocRmse), 3)
+         << " | " << fmt_estimate(r->metric(kNees)) << " | " << fmt_estimate(r->metric(kBfFallbackFraction), 3)
+         << " |\n";
     }
   }
 
@@ -327,12 +338,13 @@ std::vector<std::string> write_outage_figures(const experiment::ExperimentSettin
   const fs::path dir(out_dir);
   const std::vector<std::string> algorithms = algorithms_of(rows, kSweepBeaconOutage);
   if (algorithms.empty()) return {};
-  common::write_file_atomically(
-      (dir / "outage.dat").string(),
-      dat(rows, kSweepBeaconOutage, algorithms,
-          {kConvergedFraction, metrics::kDistToIcn095M, metrics::kDistTotalM, kBfFallbackFraction, metrics::kIterations}));
+  common::write_file_atomically((dir / "outage.dat").string(),
+                                dat(rows, kSweepBeaconOutage, algorithms,
+                                    {kConvergedFraction, metrics::kDistToIcn095M, metrics::kDistTotalM,
+                                     kBfFallbackFraction, metrics::kIterations}));
   std::ostringstream g;
-  g << gp_header("outage.png", 1500, 500) << "set multiplot layout 1,3\nset xlabel 'UAVs without beacon'\nset offsets 0.3, 0.3, 0, 0\n"
+  g << gp_header("outage.png", 1500, 500)
+    << "set multiplot layout 1,3\nset xlabel 'UAVs without beacon'\nset offsets 0.3, 0.3, 0, 0\n"
     << "set key inside bottom left\nset title 'Converged fraction'\nset yrange [0:1.05]\nplot ";
   for (std::size_t i = 0; i < algorithms.size(); ++i) {
     g << (i ? ", " : "") << "'outage.dat' index " << i << " using 1:2 with linespoints lw 2 lc rgb '"
@@ -343,8 +355,8 @@ std::vector<std::string> write_outage_figures(const experiment::ExperimentSettin
   for (std::size_t i = 0; i < algorithms.size(); ++i) {
     const std::string c = color(algorithms[i]);
     g << (i ? ", " : "") << "'outage.dat' index " << i << " using 1:4:5 with yerrorlines lw 2 lc rgb '" << c
-      << "' title '" << algorithms[i] << " to 0.95', '' index " << i << " using 1:6:7 with yerrorlines lw 2 dt 3 lc rgb '"
-      << c << "' title '" << algorithms[i] << " total'";
+      << "' title '" << algorithms[i] << " to 0.95', '' index " << i
+      << " using 1:6:7 with yerrorlines lw 2 dt 3 lc rgb '" << c << "' title '" << algorithms[i] << " total'";
   }
   g << "\nset title 'BF fallback fraction of UAV-iterations'\nset ylabel 'fraction'\nplot ";
   for (std::size_t i = 0; i < algorithms.size(); ++i) {
@@ -375,9 +387,10 @@ std::string outage_report_section(const experiment::ExperimentSettings& s, const
       const SummaryRow* r = find_row(rows, kSweepBeaconOutage, k, a);
       if (!r) continue;
       md << "| " << fmt(k, 0) << " | " << a << " | " << converged(*r) << " | "
-         << fmt_estimate(r->metric(metrics::kIterations), 0) << " | " << fmt_estimate(r->metric(metrics::kDistToIcn095M)) << " | "
-         << fmt_estimate(r->metric(metrics::kDistTotalM)) << " | " << fmt_estimate(r->metric(kBfFallbackFraction), 3)
-         << " | " << fmt_estimate(r->metric(metrics::kSinrNvDb)) << " | " << fmt_estimate(r->metric(kLocRmse), 3) << " |\n";
+         << fmt_estimate(r->metric(metrics::kIterations), 0) << " | "
+         << fmt_estimate(r->metric(metrics::kDistToIcn095M)) << " | " << fmt_estimate(r->metric(metrics::kDistTotalM))
+         << " | " << fmt_estimate(r->metric(kBfFallbackFraction), 3) << " | "
+         << fmt_estimate(r->metric(metrics::kSinrNvDb)) << " | " << fmt_estimate(r->metric(kLocRmse), 3) << " |\n";
     }
   }
   const double kmax = *std::max_element(values.begin(), values.end());

@@ -20,10 +20,11 @@ using common::InputError;
 using common::split_list;
 const std::string kSection = "coevaluation";
 
-constexpr CoevalAlgorithm kAll[] = {
-    CoevalAlgorithm::kGdGauss, CoevalAlgorithm::kGdGaussMatched, CoevalAlgorithm::kGdEkf,  CoevalAlgorithm::kGdEkfNoFallback,
-    CoevalAlgorithm::kGdPf,    CoevalAlgorithm::kGdEkfCeres, CoevalAlgorithm::kBf,
-    CoevalAlgorithm::kUraEkf,  CoevalAlgorithm::kCentralized, CoevalAlgorithm::kCapEkf};
+constexpr CoevalAlgorithm kAll[] = {CoevalAlgorithm::kGdGauss,     CoevalAlgorithm::kGdGaussMatched,
+                                    CoevalAlgorithm::kGdEkf,       CoevalAlgorithm::kGdEkfNoFallback,
+                                    CoevalAlgorithm::kGdPf,        CoevalAlgorithm::kGdEkfCeres,
+                                    CoevalAlgorithm::kBf,          CoevalAlgorithm::kUraEkf,
+                                    CoevalAlgorithm::kCentralized, CoevalAlgorithm::kCapEkf};
 // The outage sweep runs the closed loop only: the point is what the fallback does.
 constexpr CoevalAlgorithm kOutageAllowed[] = {CoevalAlgorithm::kGdEkf, CoevalAlgorithm::kGdEkfNoFallback,
                                               CoevalAlgorithm::kGdPf, CoevalAlgorithm::kGdEkfCeres};
@@ -40,11 +41,11 @@ std::vector<CoevalAlgorithm> parse_algorithms(const std::string& text, const std
                                               const CoevalAlgorithm (&allowed)[N]) {
   std::vector<CoevalAlgorithm> out;
   for (const std::string& name : split_list(text)) {
-    const auto* it = std::find_if(std::begin(allowed), std::end(allowed),
-                                  [&](CoevalAlgorithm a) { return to_string(a) == name; });
+    const auto* it =
+        std::find_if(std::begin(allowed), std::end(allowed), [&](CoevalAlgorithm a) { return to_string(a) == name; });
     if (it == std::end(allowed)) {
-      throw InputError(where + ": unknown algorithm '" + name + "' (known: " +
-                       names(std::begin(allowed), std::end(allowed)) + ")");
+      throw InputError(where + ": unknown algorithm '" + name +
+                       "' (known: " + names(std::begin(allowed), std::end(allowed)) + ")");
     }
     if (std::find(out.begin(), out.end(), *it) != out.end()) {
       throw InputError(where + ": algorithm '" + name + "' listed twice");
@@ -63,7 +64,7 @@ std::string algorithm_list(const std::vector<CoevalAlgorithm>& algorithms) {
 
 // The [closed_loop] keys the co-evaluation reads, with the spellings [coevaluation] had for them.
 constexpr std::pair<const char*, const char*> kSharedClosedLoopKeys[] = {
-    {"beacon_sigma_range_m", "sigma_range_m"}, {"dr_sigma_floor_m", "dr_sigma_floor_m"},
+    {"beacon_sigma_range_m", "sigma_range_m"},  {"dr_sigma_floor_m", "dr_sigma_floor_m"},
     {"dr_sigma_fraction", "dr_sigma_fraction"}, {"num_particles", "pf_particles"},
     {"window_epochs", "refine_window_epochs"},  {"use_csi", "refine_use_csi"}};
 
@@ -72,41 +73,42 @@ std::vector<common::Key<CoevaluationSettings>> coevaluation_key_list() {
   std::vector<K> keys = {
       K::real_list(kSection, "beacon_noise_values_m", &CoevaluationSettings::beacon_noise_values_m,
                    common::Range::at_least(0.0), "beacon_noise_m sweep points [m]", "0, 0.05"),
-      K::text(kSection, "algorithms",
-              [](CoevaluationSettings& c, const std::string& text, const std::string& where) {
-                c.algorithms = parse_algorithms(text, where, kAll);
-              },
-              [](const CoevaluationSettings& c) { return algorithm_list(c.algorithms); },
-              "comma-separated: " + names(std::begin(kAll), std::end(kAll)), "beacon_noise_m's algorithms",
-              "gd_ekf, bf"),
-      K::text(kSection, "ura_variant",
-              [](CoevaluationSettings& c, const std::string& text, const std::string&) {
-                if (text == "rigid") {
-                  c.ura_variant = placement::UraVariant::kRigid;
-                } else if (text == "lattice") {
-                  c.ura_variant = placement::UraVariant::kLattice;
-                } else {
-                  throw std::invalid_argument("'" + text + "': must be rigid or lattice");
-                }
-              },
-              [](const CoevaluationSettings& c) {
-                return std::string(c.ura_variant == placement::UraVariant::kRigid ? "rigid" : "lattice");
-              },
-              "rigid | lattice", "ura_ekf's URA (placement/ura.h)", "lattice"),
+      K::text(
+          kSection, "algorithms",
+          [](CoevaluationSettings& c, const std::string& text, const std::string& where) {
+            c.algorithms = parse_algorithms(text, where, kAll);
+          },
+          [](const CoevaluationSettings& c) { return algorithm_list(c.algorithms); },
+          "comma-separated: " + names(std::begin(kAll), std::end(kAll)), "beacon_noise_m's algorithms", "gd_ekf, bf"),
+      K::text(
+          kSection, "ura_variant",
+          [](CoevaluationSettings& c, const std::string& text, const std::string&) {
+            if (text == "rigid") {
+              c.ura_variant = placement::UraVariant::kRigid;
+            } else if (text == "lattice") {
+              c.ura_variant = placement::UraVariant::kLattice;
+            } else {
+              throw std::invalid_argument("'" + text + "': must be rigid or lattice");
+            }
+          },
+          [](const CoevaluationSettings& c) {
+            return std::string(c.ura_variant == placement::UraVariant::kRigid ? "rigid" : "lattice");
+          },
+          "rigid | lattice", "ura_ekf's URA (placement/ura.h)", "lattice"),
       K::integer_list(kSection, "outage_values", &CoevaluationSettings::outage_values, 0,
-                      std::numeric_limits<int>::max(), "beacon_outage sweep points: UAVs without beacon",
-                      "0, 1"),
-      K::text(kSection, "outage_algorithms",
-              [](CoevaluationSettings& c, const std::string& text, const std::string& where) {
-                c.outage_algorithms = parse_algorithms(text, where, kOutageAllowed);
-              },
-              [](const CoevaluationSettings& c) { return algorithm_list(c.outage_algorithms); },
-              "comma-separated: " + names(std::begin(kOutageAllowed), std::end(kOutageAllowed)),
-              "beacon_outage's algorithms", "gd_pf"),
+                      std::numeric_limits<int>::max(), "beacon_outage sweep points: UAVs without beacon", "0, 1"),
+      K::text(
+          kSection, "outage_algorithms",
+          [](CoevaluationSettings& c, const std::string& text, const std::string& where) {
+            c.outage_algorithms = parse_algorithms(text, where, kOutageAllowed);
+          },
+          [](const CoevaluationSettings& c) { return algorithm_list(c.outage_algorithms); },
+          "comma-separated: " + names(std::begin(kOutageAllowed), std::end(kOutageAllowed)),
+          "beacon_outage's algorithms", "gd_pf"),
       K::integer(kSection, "outage_first_epoch", &CoevaluationSettings::outage_first_epoch, 0, 1'000'000,
                  "first epoch without beacon", "3"),
-      K::integer(kSection, "outage_epochs", &CoevaluationSettings::outage_epochs, 0, 1'000'000,
-                 "epochs without beacon", "7"),
+      K::integer(kSection, "outage_epochs", &CoevaluationSettings::outage_epochs, 0, 1'000'000, "epochs without beacon",
+                 "7"),
       K::integer(kSection, "outage_degraded_after_epochs", &CoevaluationSettings::outage_degraded_after_epochs, 1,
                  1'000'000, "the filter is degraded after this many epochs without beacon", "2"),
       K::real(kSection, "outage_beacon_noise_m", &CoevaluationSettings::outage_beacon_noise_m,
@@ -123,16 +125,26 @@ std::vector<common::Key<CoevaluationSettings>> coevaluation_key_list() {
 
 std::string to_string(CoevalAlgorithm a) {
   switch (a) {
-    case CoevalAlgorithm::kGdGauss: return "gd_gauss";
-    case CoevalAlgorithm::kGdGaussMatched: return "gd_gauss_matched";
-    case CoevalAlgorithm::kGdEkf: return "gd_ekf";
-    case CoevalAlgorithm::kGdEkfNoFallback: return "gd_ekf_nofallback";
-    case CoevalAlgorithm::kGdPf: return "gd_pf";
-    case CoevalAlgorithm::kGdEkfCeres: return "gd_ekf_ceres";
-    case CoevalAlgorithm::kBf: return "bf";
-    case CoevalAlgorithm::kUraEkf: return "ura_ekf";
-    case CoevalAlgorithm::kCentralized: return "centralized";
-    case CoevalAlgorithm::kCapEkf: return "cap_ekf";
+    case CoevalAlgorithm::kGdGauss:
+      return "gd_gauss";
+    case CoevalAlgorithm::kGdGaussMatched:
+      return "gd_gauss_matched";
+    case CoevalAlgorithm::kGdEkf:
+      return "gd_ekf";
+    case CoevalAlgorithm::kGdEkfNoFallback:
+      return "gd_ekf_nofallback";
+    case CoevalAlgorithm::kGdPf:
+      return "gd_pf";
+    case CoevalAlgorithm::kGdEkfCeres:
+      return "gd_ekf_ceres";
+    case CoevalAlgorithm::kBf:
+      return "bf";
+    case CoevalAlgorithm::kUraEkf:
+      return "ura_ekf";
+    case CoevalAlgorithm::kCentralized:
+      return "centralized";
+    case CoevalAlgorithm::kCapEkf:
+      return "cap_ekf";
   }
   return "?";
 }
@@ -158,8 +170,8 @@ CoevaluationSettings load_coevaluation_settings(const experiment::ExperimentSett
     placement::require_los_channel(settings.placement.channel, cfg, "co-evaluation");
   }
   // centralized solves eq. 4 for its target ICN alpha, which must be below 1 (fusion/centralized.h).
-  const bool has_centralized = std::find(c.algorithms.begin(), c.algorithms.end(), CoevalAlgorithm::kCentralized) !=
-                               c.algorithms.end();
+  const bool has_centralized =
+      std::find(c.algorithms.begin(), c.algorithms.end(), CoevalAlgorithm::kCentralized) != c.algorithms.end();
   if (settings.sweep(kSweepBeaconNoise) && has_centralized && !(settings.placement.run.target_icn < 1.0)) {
     throw InputError(cfg.where("placement", "target_icn") + ": " +
                      common::format_double(settings.placement.run.target_icn) +
@@ -191,9 +203,9 @@ CoevaluationSettings load_coevaluation_settings(const experiment::ExperimentSett
 std::string to_ini(const CoevaluationSettings& c) { return coevaluation_keys().to_ini(c); }
 
 const experiment::ExtensionMetrics& coevaluation_metrics() {
-  static const experiment::ExtensionMetrics kTable = {kLocRmse,           kLocLateralRmse,   kNees,
-                                                      kBfFallbackFraction, kBeaconLateralRmse, kPairedTravelDiff,
-                                                      kPairedIterationsDiff};
+  static const experiment::ExtensionMetrics kTable = {
+      kLocRmse,          kLocLateralRmse,      kNees, kBfFallbackFraction, kBeaconLateralRmse,
+      kPairedTravelDiff, kPairedIterationsDiff};
   return kTable;
 }
 

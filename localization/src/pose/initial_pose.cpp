@@ -16,8 +16,8 @@ constexpr double kTwoPi = 6.283185307179586;
 
 // The prior's yaw marginal: mean and variance.
 void yaw_marginal(const PosePrior& prior, double& mean_rad, double& var_rad2) {
-  const PoseBelief m = std::holds_alternative<PoseBox>(prior) ? moments(std::get<PoseBox>(prior))
-                                                              : std::get<PoseBelief>(prior);
+  const PoseBelief m =
+      std::holds_alternative<PoseBox>(prior) ? moments(std::get<PoseBox>(prior)) : std::get<PoseBelief>(prior);
   mean_rad = m.mean(kPoseYaw);
   var_rad2 = m.cov(kPoseYaw, kPoseYaw);
 }
@@ -109,8 +109,7 @@ InitialPose initial_pose(const std::vector<BeaconRangeScan>& scans, const Beacon
     const double sigma_m = range_sigma_m(config, scan);
     for (const BeaconRange& r : scan.ranges) {
       ++out.counters.ranges_received;
-      const RangeVerdict verdict =
-          screen_range(r, scan, beacons, sigma_m, config.filter.max_beacon_range_m);
+      const RangeVerdict verdict = screen_range(r, scan, beacons, sigma_m, config.filter.max_beacon_range_m);
       if (verdict != RangeVerdict::kUsable) {
         count_rejection(verdict, out.counters);
         continue;
@@ -126,8 +125,8 @@ InitialPose initial_pose(const std::vector<BeaconRangeScan>& scans, const Beacon
     return out;
   };
   if (static_cast<int>(readings.size()) < config.min_ranges_for_fix) {
-    return no_fix(std::to_string(readings.size()) + " usable range(s) < min_ranges_for_fix = " +
-                  std::to_string(config.min_ranges_for_fix));
+    return no_fix(std::to_string(readings.size()) +
+                  " usable range(s) < min_ranges_for_fix = " + std::to_string(config.min_ranges_for_fix));
   }
   if (!one_offset) return no_fix("the readings have different sensor offsets");
 
@@ -136,7 +135,8 @@ InitialPose initial_pose(const std::vector<BeaconRangeScan>& scans, const Beacon
   const Eigen::Vector3d s = *offset_m;
   const double lever2 = s.head<2>().squaredNorm();
   const Eigen::Vector3d c0_m = sensor_position_m(m.mean, s);
-  const Eigen::Matrix3d P0_m2 = m.cov.topLeftCorner<3, 3>() + lever2 * Eigen::Vector3d(1.0, 1.0, 0.0).asDiagonal().toDenseMatrix();
+  const Eigen::Matrix3d P0_m2 =
+      m.cov.topLeftCorner<3, 3>() + lever2 * Eigen::Vector3d(1.0, 1.0, 0.0).asDiagonal().toDenseMatrix();
   const RangeFixResult result = range_fix(readings, c0_m, P0_m2);
   if (!result.fix) return no_fix(result.problem);
   out.fix = SensorFix{*result.fix, s};
@@ -174,7 +174,8 @@ Eigen::Vector4d sample_initial_pose(const InitialPose& initial, mrpt::random::CR
   Eigen::Vector3d n;
   for (int i = 0; i < 3; ++i) n(i) = normal();
   const Eigen::Vector3d c_m = initial.fix->fix.sensor_m + L * n;
-  const Eigen::Vector3d offset_m = sensor_position_m(Eigen::Vector4d(0.0, 0.0, 0.0, yaw_rad), initial.fix->sensor_on_robot_m);
+  const Eigen::Vector3d offset_m =
+      sensor_position_m(Eigen::Vector4d(0.0, 0.0, 0.0, yaw_rad), initial.fix->sensor_on_robot_m);
   return {c_m.x() - offset_m.x(), c_m.y() - offset_m.y(), c_m.z() - offset_m.z(), wrap_angle_rad(yaw_rad)};
 }
 

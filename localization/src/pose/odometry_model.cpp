@@ -48,8 +48,7 @@ Eigen::Vector4d increment_between(const Eigen::Vector4d& from, const Eigen::Vect
   const double s = std::sin(from(kPoseYaw));
   const double ex = to(kPoseX) - from(kPoseX);
   const double ey = to(kPoseY) - from(kPoseY);
-  return {c * ex + s * ey, -s * ex + c * ey, to(kPoseZ) - from(kPoseZ),
-          wrap_angle_rad(to(kPoseYaw) - from(kPoseYaw))};
+  return {c * ex + s * ey, -s * ex + c * ey, to(kPoseZ) - from(kPoseZ), wrap_angle_rad(to(kPoseYaw) - from(kPoseYaw))};
 }
 
 void validate(const GaussianMotionModel2D& model) {

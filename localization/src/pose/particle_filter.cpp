@@ -211,7 +211,8 @@ class ParticlePoseFilter::Mrpt final : public PoseParticles,
     // Optimal proposal per particle, linearised once at the predicted mean (optimal_proposal.h).
     const Eigen::Matrix4d W_u = u_.cov.llt().solve(Eigen::Matrix4d::Identity());
     const WhitenedRanges measurement{&plan.fuse};
-    const Eigen::Matrix4d G_hat = compose_jacobian_increment(Eigen::Vector4d(0.0, 0.0, 0.0, mean(kPoseYaw) - u_.delta(kPoseYaw)));
+    const Eigen::Matrix4d G_hat =
+        compose_jacobian_increment(Eigen::Vector4d(0.0, 0.0, 0.0, mean(kPoseYaw) - u_.delta(kPoseYaw)));
     const OptimalProposal<4, WhitenedRanges> proposal(measurement, mean, G_hat * W_u * G_hat.transpose());
     i = 0;
     for (auto& p : m_particles) {

@@ -76,11 +76,20 @@ RangeVerdict screen_range(const BeaconRange& reading, const BeaconRangeScan& sca
 
 void count_rejection(RangeVerdict verdict, FilterCounters& counters) {
   switch (verdict) {
-    case RangeVerdict::kUsable: return;
-    case RangeVerdict::kNonFinite: ++counters.rejected_non_finite_range; return;
-    case RangeVerdict::kUnknownBeacon: ++counters.rejected_unknown_beacon; return;
-    case RangeVerdict::kOutsideSensorLimits: ++counters.rejected_outside_sensor_limits; return;
-    case RangeVerdict::kImplausible: ++counters.rejected_implausible_range; return;
+    case RangeVerdict::kUsable:
+      return;
+    case RangeVerdict::kNonFinite:
+      ++counters.rejected_non_finite_range;
+      return;
+    case RangeVerdict::kUnknownBeacon:
+      ++counters.rejected_unknown_beacon;
+      return;
+    case RangeVerdict::kOutsideSensorLimits:
+      ++counters.rejected_outside_sensor_limits;
+      return;
+    case RangeVerdict::kImplausible:
+      ++counters.rejected_implausible_range;
+      return;
   }
 }
 

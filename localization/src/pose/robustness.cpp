@@ -43,9 +43,7 @@ RangeUpdatePlan plan_range_update(const PoseFilterConfig& config, const BeaconMa
       plan.innovations.nis_sum += y * y / S;
     }
   }
-  const auto count_gated = [&] {
-    counters.rejected_range_gate += static_cast<std::int64_t>(gated.size());
-  };
+  const auto count_gated = [&] { counters.rejected_range_gate += static_cast<std::int64_t>(gated.size()); };
   if (!plan.fuse.empty()) {
     plan.verdict = RangeEpochVerdict::kFuse;
     counters.ranges_fused += static_cast<std::int64_t>(plan.fuse.size());
@@ -75,7 +73,8 @@ RangeUpdatePlan plan_range_update(const PoseFilterConfig& config, const BeaconMa
       consecutive_gated_epochs = 0;
       ++counters.resets;
       counters.ranges_fused += static_cast<std::int64_t>(gated.size());
-      for (const UsableRange& u : gated) plan.innovations.readings.push_back({u.beacon_m, u.sensor_on_robot_m, u.range_m});
+      for (const UsableRange& u : gated)
+        plan.innovations.readings.push_back({u.beacon_m, u.sensor_on_robot_m, u.range_m});
       return plan;
     }
   }

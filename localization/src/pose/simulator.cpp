@@ -57,17 +57,16 @@ RangeSensorSimulator::RangeSensorSimulator(const RangeSimulatorConfig& config, B
 }
 
 OdometryIncrement RangeSensorSimulator::measure_odometry(const Eigen::Vector4d& true_increment) {
-  const OdometryIncrement truth_model =
-      odometry_2d(true_increment(kPoseX), true_increment(kPoseY), true_increment(kPoseYaw), config_.odometry,
-                  config_.sigma_z_m);
+  const OdometryIncrement truth_model = odometry_2d(true_increment(kPoseX), true_increment(kPoseY),
+                                                    true_increment(kPoseYaw), config_.odometry, config_.sigma_z_m);
   // Through the eigen-decomposition: the model's covariance may be singular (a zero minimum std).
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(truth_model.cov);
   Eigen::Vector4d n;
   for (int i = 0; i < kPoseSize; ++i) n(i) = gaussian();
   const Eigen::Vector4d noise = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().cwiseProduct(n);
   Eigen::Vector4d reading = true_increment + noise;
-  OdometryIncrement out = odometry_2d(reading(kPoseX), reading(kPoseY), reading(kPoseYaw), config_.odometry,
-                                      config_.sigma_z_m);
+  OdometryIncrement out =
+      odometry_2d(reading(kPoseX), reading(kPoseY), reading(kPoseYaw), config_.odometry, config_.sigma_z_m);
   out.delta(kPoseZ) = reading(kPoseZ);
   return out;
 }

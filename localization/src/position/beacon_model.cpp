@@ -15,9 +15,7 @@ double wrap_angle_rad(double angle_rad) {
   return wrapped;
 }
 
-Eigen::Vector3d to_vector(const BeaconMeasurement& z) {
-  return {z.range_m, z.azimuth_rad, z.elevation_rad};
-}
+Eigen::Vector3d to_vector(const BeaconMeasurement& z) { return {z.range_m, z.azimuth_rad, z.elevation_rad}; }
 
 BeaconMeasurement to_measurement(const Eigen::Vector3d& z) {
   BeaconMeasurement m;
@@ -41,15 +39,14 @@ Eigen::Matrix3d beacon_jacobian(const Eigen::Vector3d& q_m) {
   const double r2 = rho2 + z * z;
   const double r = std::sqrt(r2);
   Eigen::Matrix3d J_z_q;
-  J_z_q << x / r, y / r, z / r,                              // range
-      -y / rho2, x / rho2, 0.0,                              // azimuth
-      -x * z / (rho * r2), -y * z / (rho * r2), rho / r2;    // elevation
+  J_z_q << x / r, y / r, z / r,                            // range
+      -y / rho2, x / rho2, 0.0,                            // azimuth
+      -x * z / (rho * r2), -y * z / (rho * r2), rho / r2;  // elevation
   return J_z_q;
 }
 
 Eigen::Vector3d beacon_innovation(const Eigen::Vector3d& z_meas, const Eigen::Vector3d& z_pred) {
-  return {z_meas(0) - z_pred(0), wrap_angle_rad(z_meas(1) - z_pred(1)),
-          wrap_angle_rad(z_meas(2) - z_pred(2))};
+  return {z_meas(0) - z_pred(0), wrap_angle_rad(z_meas(1) - z_pred(1)), wrap_angle_rad(z_meas(2) - z_pred(2))};
 }
 
 Eigen::Matrix3d beacon_noise_cov(double sigma_range_m, double sigma_angle_rad) {

@@ -33,8 +33,7 @@ class EkfPositionFilter::Mrpt final
     set_state(initial.mean_m, initial.cov_m2);
   }
 
-  void step(const Eigen::Vector3d& measured_displacement_m,
-            const std::optional<BeaconMeasurement>& beacon) {
+  void step(const Eigen::Vector3d& measured_displacement_m, const std::optional<BeaconMeasurement>& beacon) {
     ++counters_.epochs;
     const ScreenedDisplacement d = screen_displacement(config_, measured_displacement_m, counters_);
     u_m_ = d.u_m;
@@ -61,8 +60,7 @@ class EkfPositionFilter::Mrpt final
     for (size_t i = 0; i < kActionSize; ++i) out_u[i] = u_m_(static_cast<Eigen::Index>(i));
   }
 
-  void OnTransitionModel(const KFArray_ACT& in_u, KFArray_VEH& inout_x,
-                         bool& out_skipPrediction) const override {
+  void OnTransitionModel(const KFArray_ACT& in_u, KFArray_VEH& inout_x, bool& out_skipPrediction) const override {
     for (size_t i = 0; i < kStateSize; ++i) inout_x[i] += in_u[i];
     out_skipPrediction = false;
   }
@@ -74,9 +72,7 @@ class EkfPositionFilter::Mrpt final
     for (size_t i = 0; i < kStateSize; ++i) out_Q(i, i) = sigma_q_m_ * sigma_q_m_;
   }
 
-  void OnGetObservationNoise(KFMatrix_OxO& out_R) const override {
-    out_R = KFMatrix_OxO(floored_beacon_cov(config_));
-  }
+  void OnGetObservationNoise(KFMatrix_OxO& out_R) const override { out_R = KFMatrix_OxO(floored_beacon_cov(config_)); }
 
   void OnObservationModel(const std::vector<size_t>& /*idx_landmarks_to_predict*/,
                           vector_KFArray_OBS& out_predictions) const override {
@@ -97,15 +93,12 @@ class EkfPositionFilter::Mrpt final
   }
 
   void OnSubstractObservationVectors(KFArray_OBS& A, const KFArray_OBS& B) const override {
-    const Eigen::Vector3d y = beacon_innovation(Eigen::Vector3d(A[0], A[1], A[2]),
-                                                Eigen::Vector3d(B[0], B[1], B[2]));
+    const Eigen::Vector3d y = beacon_innovation(Eigen::Vector3d(A[0], A[1], A[2]), Eigen::Vector3d(B[0], B[1], B[2]));
     for (size_t i = 0; i < kObsSize; ++i) A[i] = y(static_cast<Eigen::Index>(i));
   }
 
-  void OnGetObservationsAndDataAssociation(vector_KFArray_OBS& out_z,
-                                           std::vector<int>& out_data_association,
-                                           const vector_KFArray_OBS& /*in_all_predictions*/,
-                                           const KFMatrix& /*in_S*/,
+  void OnGetObservationsAndDataAssociation(vector_KFArray_OBS& out_z, std::vector<int>& out_data_association,
+                                           const vector_KFArray_OBS& /*in_all_predictions*/, const KFMatrix& /*in_S*/,
                                            const std::vector<size_t>& /*in_lm_indices_in_S*/,
                                            const KFMatrix_OxO& /*in_R*/) override {
     out_z.clear();
@@ -113,8 +106,7 @@ class EkfPositionFilter::Mrpt final
     // m_xkk / m_pkk hold the prediction here: screen against it, and keep what the Joseph
     // form needs in OnPostIteration.
     P_pred_m2_ = cov_m2();
-    verdict_ = screen_beacon(config_, beacon_, mean_m(), P_pred_m2_, consecutive_gated_,
-                             counters_);
+    verdict_ = screen_beacon(config_, beacon_, mean_m(), P_pred_m2_, consecutive_gated_, counters_);
     if (verdict_ != BeaconVerdict::kFuse) return;
     const Eigen::Vector3d z = to_vector(*beacon_);
     KFArray_OBS z_obs;

@@ -34,8 +34,7 @@ void validate(const Belief& belief) {
   }
   if ((belief.cov_m2 - belief.cov_m2.transpose()).cwiseAbs().maxCoeff() >
       1e-9 * (1.0 + belief.cov_m2.cwiseAbs().maxCoeff())) {
-    fail("belief.cov_m2 asymmetry", (belief.cov_m2 - belief.cov_m2.transpose()).norm(),
-         "symmetric");
+    fail("belief.cov_m2 asymmetry", (belief.cov_m2 - belief.cov_m2.transpose()).norm(), "symmetric");
   }
   const Eigen::LLT<Eigen::Matrix3d> llt(belief.cov_m2);
   if (llt.info() != Eigen::Success) {
@@ -49,8 +48,8 @@ std::optional<std::string> health_problem(const Belief& belief) {
 
 std::optional<std::string> health_problem(const PositionFilter& filter) { return filter_health_problem(filter); }
 
-std::unique_ptr<PositionFilter> make_filter(FilterKind kind, const FilterConfig& config,
-                                            const Belief& initial, std::uint64_t seed) {
+std::unique_ptr<PositionFilter> make_filter(FilterKind kind, const FilterConfig& config, const Belief& initial,
+                                            std::uint64_t seed) {
   return make_filter_of_kind<PositionFilter, EkfPositionFilter, ParticlePositionFilter>(kind, seed, config, initial);
 }
 

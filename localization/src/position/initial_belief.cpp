@@ -9,10 +9,14 @@ namespace losmimo::localization {
 
 std::string to_string(InitialBeliefSource source) {
   switch (source) {
-    case InitialBeliefSource::kBeaconFix: return "beacon fix";
-    case InitialBeliefSource::kPriorNoBeacon: return "prior (no beacon)";
-    case InitialBeliefSource::kPriorImplausibleBeacon: return "prior (implausible beacon)";
-    case InitialBeliefSource::kPriorHealthProblem: return "prior (beacon fix unhealthy)";
+    case InitialBeliefSource::kBeaconFix:
+      return "beacon fix";
+    case InitialBeliefSource::kPriorNoBeacon:
+      return "prior (no beacon)";
+    case InitialBeliefSource::kPriorImplausibleBeacon:
+      return "prior (implausible beacon)";
+    case InitialBeliefSource::kPriorHealthProblem:
+      return "prior (beacon fix unhealthy)";
   }
   return "unknown";
 }

@@ -25,8 +25,7 @@ constexpr double kMinProposalRho_m = 1e-9;
 
 // Weighted mean and covariance of the particle cloud (normalised linear weights), one pass
 // with iterators (deque indexing is slow), accumulating about the first particle for accuracy.
-void moments(const ParticleData::CParticleList& particles, Eigen::Vector3d& mean_m,
-             Eigen::Matrix3d& cov_m2) {
+void moments(const ParticleData::CParticleList& particles, Eigen::Vector3d& mean_m, Eigen::Matrix3d& cov_m2) {
   const std::vector<double> w = normalized_weights(log_weights(particles));
   const Eigen::Vector3d origin_m = particles.front().d;
   Eigen::Vector3d first = Eigen::Vector3d::Zero();
@@ -92,8 +91,7 @@ class ParticlePositionFilter::Mrpt final
     update_belief();
   }
 
-  void step(const Eigen::Vector3d& measured_displacement_m,
-            const std::optional<BeaconMeasurement>& beacon) {
+  void step(const Eigen::Vector3d& measured_displacement_m, const std::optional<BeaconMeasurement>& beacon) {
     ++counters_.epochs;
     const ScreenedDisplacement d = screen_displacement(config_, measured_displacement_m, counters_);
     u_m_ = d.u_m;
@@ -215,8 +213,7 @@ class ParticlePositionFilter::Mrpt final
   Belief reset_belief_;
 };
 
-ParticlePositionFilter::ParticlePositionFilter(const FilterConfig& config, const Belief& initial,
-                                               std::uint64_t seed) {
+ParticlePositionFilter::ParticlePositionFilter(const FilterConfig& config, const Belief& initial, std::uint64_t seed) {
   validate(config);
   validate(initial);
   pf_ = std::make_unique<Mrpt>(config, initial, seed);

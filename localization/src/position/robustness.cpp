@@ -10,13 +10,11 @@
 namespace losmimo::localization {
 
 bool is_finite(const BeaconMeasurement& z) {
-  return std::isfinite(z.range_m) && std::isfinite(z.azimuth_rad) &&
-         std::isfinite(z.elevation_rad);
+  return std::isfinite(z.range_m) && std::isfinite(z.azimuth_rad) && std::isfinite(z.elevation_rad);
 }
 
 double displacement_sigma_m(const FilterConfig& config, double distance_m) {
-  const double sigma_m =
-      config.noise.dr_sigma_floor_m + config.noise.dr_sigma_fraction * distance_m;
+  const double sigma_m = config.noise.dr_sigma_floor_m + config.noise.dr_sigma_fraction * distance_m;
   return std::max(sigma_m, config.min_sigma_displacement_m);
 }
 
@@ -49,11 +47,9 @@ bool is_plausible(const FilterConfig& config, const BeaconMeasurement& z) {
          std::abs(wrap_angle_rad(z.elevation_rad)) <= kHalfPi_rad;
 }
 
-BeaconVerdict screen_beacon(const FilterConfig& config,
-                            const std::optional<BeaconMeasurement>& beacon,
-                            const Eigen::Vector3d& predicted_mean_m,
-                            const Eigen::Matrix3d& predicted_cov_m2, int& consecutive_gated,
-                            FilterCounters& counters) {
+BeaconVerdict screen_beacon(const FilterConfig& config, const std::optional<BeaconMeasurement>& beacon,
+                            const Eigen::Vector3d& predicted_mean_m, const Eigen::Matrix3d& predicted_cov_m2,
+                            int& consecutive_gated, FilterCounters& counters) {
   if (!beacon) return BeaconVerdict::kNone;
   ++counters.beacons_received;
   // A range <= 0 is as meaningless as a NaN: the inverse model and the gate need r > 0.
@@ -73,13 +69,10 @@ BeaconVerdict screen_beacon(const FilterConfig& config,
   }
   if (config.gate_enabled) {
     const Eigen::Matrix3d J_z_q = beacon_jacobian(predicted_mean_m);
-    const Eigen::Matrix3d S = J_z_q * predicted_cov_m2 * J_z_q.transpose() +
-                              floored_beacon_cov(config);
-    const Eigen::Vector3d y =
-        beacon_innovation(to_vector(*beacon), beacon_predict(predicted_mean_m));
+    const Eigen::Matrix3d S = J_z_q * predicted_cov_m2 * J_z_q.transpose() + floored_beacon_cov(config);
+    const Eigen::Vector3d y = beacon_innovation(to_vector(*beacon), beacon_predict(predicted_mean_m));
     if (!(mahalanobis2(y, S) <= config.gate_chi2)) {
-      if (config.reset_after_rejections > 0 &&
-          consecutive_gated >= config.reset_after_rejections) {
+      if (config.reset_after_rejections > 0 && consecutive_gated >= config.reset_after_rejections) {
         consecutive_gated = 0;
         ++counters.resets;
         ++counters.beacons_fused;

@@ -30,8 +30,7 @@ void validate(const SimulatorConfig& config) {
   require(r::sigma, config.sigma_act_m, "sigma_act_m");
 }
 
-SensorSimulator::SensorSimulator(const SimulatorConfig& config, std::uint64_t seed)
-    : config_(config), rng_(seed) {
+SensorSimulator::SensorSimulator(const SimulatorConfig& config, std::uint64_t seed) : config_(config), rng_(seed) {
   validate(config_);
 }
 
@@ -42,8 +41,7 @@ Eigen::Vector3d SensorSimulator::actuate(const Eigen::Vector3d& commanded_m) {
 }
 
 Eigen::Vector3d SensorSimulator::measure_displacement(const Eigen::Vector3d& true_displacement_m) {
-  const double sigma_m =
-      config_.dr_sigma_floor_m + config_.dr_sigma_fraction * true_displacement_m.norm();
+  const double sigma_m = config_.dr_sigma_floor_m + config_.dr_sigma_fraction * true_displacement_m.norm();
   Eigen::Vector3d measured = true_displacement_m;
   for (int a = 0; a < 3; ++a) measured(a) += sigma_m * gaussian();
   return measured;
@@ -51,8 +49,7 @@ Eigen::Vector3d SensorSimulator::measure_displacement(const Eigen::Vector3d& tru
 
 bool SensorSimulator::beacon_scheduled(int epoch) const {
   if (epoch < 0) {
-    throw std::invalid_argument("localization: beacon epoch = " + std::to_string(epoch) +
-                                " (must be >= 0)");
+    throw std::invalid_argument("localization: beacon epoch = " + std::to_string(epoch) + " (must be >= 0)");
   }
   if (epoch % config_.beacon_period_epochs != 0) return false;
   for (const OutageWindow& w : config_.outages) {
@@ -61,13 +58,11 @@ bool SensorSimulator::beacon_scheduled(int epoch) const {
   return true;
 }
 
-std::optional<BeaconMeasurement> SensorSimulator::measure_beacon(const Eigen::Vector3d& true_q_m,
-                                                                 int epoch) {
+std::optional<BeaconMeasurement> SensorSimulator::measure_beacon(const Eigen::Vector3d& true_q_m, int epoch) {
   if (!beacon_scheduled(epoch)) return std::nullopt;
   const bool outlier = uniform_(rng_) < config_.outlier_fraction;
   const double sigma_range_m = outlier ? config_.outlier_sigma_range_m : config_.sigma_range_m;
-  const double sigma_angle_rad =
-      outlier ? config_.outlier_sigma_angle_rad : config_.sigma_angle_rad;
+  const double sigma_angle_rad = outlier ? config_.outlier_sigma_angle_rad : config_.sigma_angle_rad;
   if (outlier) ++num_outliers_;
   const Eigen::Vector3d z_true = beacon_predict(true_q_m);
   BeaconMeasurement z;

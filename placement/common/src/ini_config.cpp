@@ -130,20 +130,22 @@ std::string IniConfig::where(const std::string& section, const std::string& key)
 }
 
 double IniConfig::get_double(const std::string& section, const std::string& key, double fallback) const {
-  return has(section, key) ? parse_double(sections_.at(section).at(key).value, where(section, key), field_name(section, key))
-                           : fallback;
+  return has(section, key)
+             ? parse_double(sections_.at(section).at(key).value, where(section, key), field_name(section, key))
+             : fallback;
 }
 
-long long IniConfig::get_integer(const std::string& section, const std::string& key,
-                                 long long fallback, long long lo, long long hi) const {
+long long IniConfig::get_integer(const std::string& section, const std::string& key, long long fallback, long long lo,
+                                 long long hi) const {
   return has(section, key)
              ? parse_integer(sections_.at(section).at(key).value, where(section, key), lo, hi, field_name(section, key))
              : fallback;
 }
 
 bool IniConfig::get_bool(const std::string& section, const std::string& key, bool fallback) const {
-  return has(section, key) ? parse_bool(sections_.at(section).at(key).value, where(section, key), field_name(section, key))
-                           : fallback;
+  return has(section, key)
+             ? parse_bool(sections_.at(section).at(key).value, where(section, key), field_name(section, key))
+             : fallback;
 }
 
 std::string IniConfig::get_string(const std::string& section, const std::string& key,

@@ -38,8 +38,7 @@ long long parse_integer(const std::string& text, const std::string& where, long 
     throw InputError(where + ": '" + text + "' is not an integer", field);
   }
   if (v < lo || v > hi) {
-    throw InputError(where + ": " + t + " is out of range [" + std::to_string(lo) + ", " +
-                     std::to_string(hi) + "]",
+    throw InputError(where + ": " + t + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]",
                      field);
   }
   return v;

@@ -67,9 +67,9 @@ std::pair<std::uintmax_t, std::uint64_t> size_and_digest(const fs::path& p) {
 
 // Files losmimo apps wrote into their folders before folders had a manifest.
 bool legacy_output_name(const std::string& name) {
-  static const std::set<std::string> kNames = {"config.ini",  "shard.ini",   "records.csv",  "records.partial",
-                                               "trials.csv",  "positions.csv", "traces.csv", "summary.csv",
-                                               "report.md",   "estimates.csv", "epochs.csv"};
+  static const std::set<std::string> kNames = {"config.ini", "shard.ini",     "records.csv", "records.partial",
+                                               "trials.csv", "positions.csv", "traces.csv",  "summary.csv",
+                                               "report.md",  "estimates.csv", "epochs.csv"};
   if (kNames.count(name)) return true;
   const auto ends_with = [&](const std::string& s) {
     return name.size() >= s.size() && name.compare(name.size() - s.size(), s.size(), s) == 0;
@@ -149,7 +149,8 @@ ExistingOutput inspect_output(const fs::path& path) {
   if (ec) return {ExistingOutput::kNotOurs, "a folder that cannot be read"};
   if (names.empty()) return {ExistingOutput::kEmptyFolder, "an empty folder"};
   std::sort(names.begin(), names.end());
-  const std::string some = names.front() + (names.size() > 1 ? ", " + names[1] : "") + (names.size() > 2 ? ", ..." : "");
+  const std::string some =
+      names.front() + (names.size() > 1 ? ", " + names[1] : "") + (names.size() > 2 ? ", ..." : "");
   if (fs::exists(path / kManifestName)) {
     try {
       const IniConfig m = read_manifest(path);
@@ -218,7 +219,10 @@ StagedDir::StagedDir(fs::path final_dir, fs::path staging, int lock_fd, bool rep
     : final_(std::move(final_dir)), staging_(std::move(staging)), lock_fd_(lock_fd), replace_(replace) {}
 
 StagedDir::StagedDir(StagedDir&& other) noexcept
-    : final_(std::move(other.final_)), staging_(std::move(other.staging_)), lock_fd_(other.lock_fd_), replace_(other.replace_) {
+    : final_(std::move(other.final_)),
+      staging_(std::move(other.staging_)),
+      lock_fd_(other.lock_fd_),
+      replace_(other.replace_) {
   other.lock_fd_ = -1;
 }
 
@@ -233,7 +237,8 @@ void check_final(const fs::path& final_dir, bool replace) {
   if (a == final_dir.end()) throw InputError(final_dir.string() + ": is the current folder or contains it");
   const ExistingOutput e = inspect_output(final_dir);
   if (e.kind == ExistingOutput::kNotOurs) throw OutputExistsError(final_dir.string() + " is " + e.description, false);
-  if (e.kind == ExistingOutput::kOurs && !replace) throw OutputExistsError(final_dir.string() + " holds " + e.description, true);
+  if (e.kind == ExistingOutput::kOurs && !replace)
+    throw OutputExistsError(final_dir.string() + " holds " + e.description, true);
 }
 }  // namespace
 
@@ -248,7 +253,8 @@ void StagedDir::check(const std::string& final_dir, bool replace, StaleStaging s
   const int fd = lock_folder(staging);
   if (fd < 0) throw OutputExistsError(staging.string() + " is in use by a running process", false);
   ::close(fd);
-  if (stale == StaleStaging::kRefuse && !replace) throw OutputExistsError(staging.string() + " holds an interrupted run", true);
+  if (stale == StaleStaging::kRefuse && !replace)
+    throw OutputExistsError(staging.string() + " holds an interrupted run", true);
 }
 
 StagedDir StagedDir::create(const std::string& final_dir, bool replace, StaleStaging stale) {
@@ -264,8 +270,8 @@ StagedDir StagedDir::create(const std::string& final_dir, bool replace, StaleSta
     ::close(old);
   }
   // Created under a private name, locked, then renamed: the staging folder never exists unlocked.
-  const fs::path tmp = final_path.parent_path() / (final_path.filename().string() + kStagingSuffix + ".tmp" +
-                                                   std::to_string(::getpid()));
+  const fs::path tmp = final_path.parent_path() /
+                       (final_path.filename().string() + kStagingSuffix + ".tmp" + std::to_string(::getpid()));
   fs::remove_all(tmp);
   fs::create_directories(tmp);
   const int fd = lock_folder(tmp);
@@ -305,7 +311,8 @@ void StagedDir::publish(const Manifest& manifest) {
   for (std::size_t i = 0; i < files.size(); ++i) {
     fsync_path(files[i], false);
     const auto [size, digest] = size_and_digest(files[i]);
-    m << "file_" << i + 1 << " = " << files[i].filename().string() << " " << size << " " << format_hex64(digest) << "\n";
+    m << "file_" << i + 1 << " = " << files[i].filename().string() << " " << size << " " << format_hex64(digest)
+      << "\n";
   }
   const fs::path manifest_path = staging_ / kManifestName;
   {
@@ -378,7 +385,8 @@ StagedFile StagedFile::create(const std::string& final_path, bool replace) {
   const std::string staging = f.string() + kStagingSuffix;
   std::error_code ec;
   const fs::file_status st = fs::symlink_status(staging, ec);
-  if (fs::exists(st) && !fs::is_regular_file(st)) throw OutputExistsError(staging + " is in the way (not a regular file)", false);
+  if (fs::exists(st) && !fs::is_regular_file(st))
+    throw OutputExistsError(staging + " is in the way (not a regular file)", false);
   const int fd = ::open(staging.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
   if (fd < 0) throw io_error("cannot create", staging);
   if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {

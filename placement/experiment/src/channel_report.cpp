@@ -27,7 +27,8 @@ std::string fmt(double v, int decimals = 2) { return common::format_fixed(v, dec
 const SummaryRow* find_row(const std::vector<SummaryRow>& rows, const std::string& sweep, double value,
                            const std::string& algorithm) {
   for (const SummaryRow& r : rows) {
-    if (r.sweep == sweep && r.algorithm == algorithm && (r.value == value || std::abs(r.value - value) < 1e-12)) return &r;
+    if (r.sweep == sweep && r.algorithm == algorithm && (r.value == value || std::abs(r.value - value) < 1e-12))
+      return &r;
   }
   return nullptr;
 }
@@ -78,8 +79,8 @@ std::string setup_line(const ExperimentSettings& s, const std::string& sweep) {
   o << sc.num_uavs << " UAVs, ";
   if (sweep != kSweepBsAntennas) o << "BS " << sc.bs_rows << " x " << sc.bs_cols << ", ";
   o << "antenna spacing " << common::format_double(sc.bs_spacing_m) << " m, "
-    << common::format_double(sc.carrier_hz / 1e9) << " GHz, R = " << common::format_double(sc.range_m())
-    << " m, SNR " << common::format_double(sc.snr_db) << " dB per link, " << to_string(sc.gain_model) << " gain";
+    << common::format_double(sc.carrier_hz / 1e9) << " GHz, R = " << common::format_double(sc.range_m()) << " m, SNR "
+    << common::format_double(sc.snr_db) << " dB per link, " << to_string(sc.gain_model) << " gain";
   if (sweep != kSweepRicianK) o << ", Rician K " << placement::format_db_or_inf(c.rician_k_db) << " dB";
   if (sweep != kSweepCsiSnr) o << ", CSI SNR " << placement::format_db_or_inf(c.csi_snr_db) << " dB";
   o << ", coherence block " << c.coherence_iterations << " iteration(s); sigma_loc "
@@ -126,7 +127,8 @@ std::string rician_claims(const ExperimentSettings& s, const std::vector<Summary
     for (const Algorithm a : {Algorithm::kGd, Algorithm::kBf}) {
       if (!runs(s, a)) continue;
       const double gain = mean(rows, S, k, to_string(a), zf) / mean(rows, S, k, "random", zf);
-      const double vs_ura = runs(s, Algorithm::kUra) ? mean(rows, S, k, to_string(a), zf) / mean(rows, S, k, "ura", zf) : 1.0;
+      const double vs_ura =
+          runs(s, Algorithm::kUra) ? mean(rows, S, k, to_string(a), zf) / mean(rows, S, k, "ura", zf) : 1.0;
       all = all && gain >= kSignificantGain && vs_ura >= kCloseToUra;
     }
     held += all ? 1 : 0;
@@ -134,11 +136,13 @@ std::string rician_claims(const ExperimentSettings& s, const std::vector<Summary
   }
   const std::string verdict = held == points ? "**supports**" : held > 0 ? "**partly supports**" : "**contradicts**";
   o << "- C5, \"the approaches are robust in a Rician channel\": " << verdict << " (capacity). At K = " << fmt(k_lo, 0)
-    << " dB the ergodic ZF sum rate over random placement is "
-    << per_mover(s, [&](const std::string& a) { return fmt(mean(rows, S, k_lo, a, zf) / mean(rows, S, k_lo, "random", zf)) + "x"; });
+    << " dB the ergodic ZF sum rate over random placement is " << per_mover(s, [&](const std::string& a) {
+         return fmt(mean(rows, S, k_lo, a, zf) / mean(rows, S, k_lo, "random", zf)) + "x";
+       });
   if (runs(s, Algorithm::kUra)) {
-    o << ", and over the rigid URA's "
-      << per_mover(s, [&](const std::string& a) { return fmt(mean(rows, S, k_lo, a, zf) / mean(rows, S, k_lo, "ura", zf)) + "x"; });
+    o << ", and over the rigid URA's " << per_mover(s, [&](const std::string& a) {
+      return fmt(mean(rows, S, k_lo, a, zf) / mean(rows, S, k_lo, "ura", zf)) + "x";
+    });
   }
   o << "; the criterion (>= " << fmt(kSignificantGain, 1) << "x random and >= " << fmt(kCloseToUra, 1)
     << "x the URA, both GD and BF) holds at " << held << " of " << points << " finite K values.\n";
@@ -147,11 +151,12 @@ std::string rician_claims(const ExperimentSettings& s, const std::vector<Summary
   const SummaryRow* bf_lo = find_row(rows, S, k_lo, "bf");
   if (gd_lo || bf_lo) {
     o << "- C3, \"at the cost of a bounded translation\", under fading: at K = " << fmt(k_lo, 0) << " dB "
-      << per_mover(s, [&](const std::string& a) {
-           const SummaryRow* r = find_row(rows, S, k_lo, a);
-           return "converged in " + fmt(100.0 * r->converged_fraction, 0) + "% of runs and flew " +
-                  fmt(mean(rows, S, k_lo, a, metrics::kDistTotalM)) + " m per UAV";
-         })
+      << per_mover(s,
+                   [&](const std::string& a) {
+                     const SummaryRow* r = find_row(rows, S, k_lo, a);
+                     return "converged in " + fmt(100.0 * r->converged_fraction, 0) + "% of runs and flew " +
+                            fmt(mean(rows, S, k_lo, a, metrics::kDistTotalM)) + " m per UAV";
+                   })
       << " (at K = inf: "
       << per_mover(s, [&](const std::string& a) { return fmt(mean(rows, S, kInf, a, metrics::kDistTotalM)) + " m"; })
       << "). The stop test reads measured CSI, whose ICN stays below the target under strong scatter, so runs "
@@ -184,19 +189,23 @@ std::string csi_claims(const ExperimentSettings& s, const std::vector<SummaryRow
   for (auto it = finite.rbegin(); it != finite.rend(); ++it) {
     bool all = true;
     for (const Algorithm a : {Algorithm::kGd, Algorithm::kBf}) {
-      if (runs(s, a)) all = all && mean(rows, S, *it, to_string(a), zf) >= kCloseToUra * mean(rows, S, kInf, to_string(a), zf);
+      if (runs(s, a))
+        all = all && mean(rows, S, *it, to_string(a), zf) >= kCloseToUra * mean(rows, S, kInf, to_string(a), zf);
     }
     if (!all) break;
     robust_from = *it;
   }
   const double lo = finite.front();
   o << "- The abstract claims nothing about CSI errors; its closest claim is C5, robustness to disturbances. "
-    << (robust_from == lo ? "**Supports** it for CSI noise down to " + fmt(lo, 0) + " dB"
+    << (robust_from == lo     ? "**Supports** it for CSI noise down to " + fmt(lo, 0) + " dB"
         : robust_from == kInf ? "**Contradicts** it for CSI noise at every finite SNR swept"
                               : "**Supports** it down to " + fmt(robust_from, 0) + " dB only")
-    << " (criterion: GD and BF keep >= " << fmt(kCloseToUra, 1) << "x their perfect-CSI ZF sum rate). At "
-    << fmt(lo, 0) << " dB they keep "
-    << per_mover(s, [&](const std::string& a) { return fmt(100.0 * mean(rows, S, lo, a, zf) / mean(rows, S, kInf, a, zf), 0) + "%"; })
+    << " (criterion: GD and BF keep >= " << fmt(kCloseToUra, 1) << "x their perfect-CSI ZF sum rate). At " << fmt(lo, 0)
+    << " dB they keep "
+    << per_mover(s,
+                 [&](const std::string& a) {
+                   return fmt(100.0 * mean(rows, S, lo, a, zf) / mean(rows, S, kInf, a, zf), 0) + "%";
+                 })
     << "; the URAs, which use positions only, keep "
     << fmt(100.0 * mean(rows, S, lo, "ura", zf) / mean(rows, S, kInf, "ura", zf), 0) << "%.\n";
   return o.str();
@@ -221,22 +230,26 @@ std::string bs_claims(const ExperimentSettings& s, const std::vector<SummaryRow>
       o << (i ? "; " : "") << fmt(100.0 * share_zf, 0) << "% (ZF) and " << fmt(100.0 * share_nv, 0)
         << "% (NV) of the URA's sum rate at " << value_label(S, v) << " antennas";
     }
-    o << ". " << (limited == static_cast<int>(p.values.size()) ? "**Supports** it at every size"
-                  : limited > 0 ? "**Supports** it where a share is below 50%, **contradicts** it for the other sizes "
-                                  "(random rows of a large array are nearly orthogonal already)"
-                                : "**Contradicts** it at every size swept")
+    o << ". "
+      << (limited == static_cast<int>(p.values.size()) ? "**Supports** it at every size"
+          : limited > 0 ? "**Supports** it where a share is below 50%, **contradicts** it for the other sizes "
+                          "(random rows of a large array are nearly orthogonal already)"
+                        : "**Contradicts** it at every size swept")
       << ".\n";
   }
   if (ura || runs(s, Algorithm::kUraLattice)) {
-    o << "- C2, \"the capacity bound is reached on an infinite set of placements\": the LoS ICN at the final positions is ";
+    o << "- C2, \"the capacity bound is reached on an infinite set of placements\": the LoS ICN at the final positions "
+         "is ";
     std::string parts;
     for (const double v : p.values) {
       for (const std::string a : {"ura", "ura_lattice"}) {
         const double icn = mean(rows, S, v, a, kFinalIcnLos);
-        if (std::isfinite(icn)) parts += (parts.empty() ? "" : ", ") + a + " " + fmt(icn, 3) + " at " + value_label(S, v);
+        if (std::isfinite(icn))
+          parts += (parts.empty() ? "" : ", ") + a + " " + fmt(icn, 3) + " at " + value_label(S, v);
       }
     }
-    o << parts << ". The rigid URA and the lattice URA (each UAV at its own depth, shifted by whole lateral periods) "
+    o << parts
+      << ". The rigid URA and the lattice URA (each UAV at its own depth, shifted by whole lateral periods) "
          "are different placements with the same bound, and with more antennas than UAVs any "
       << s.placement.scenario.num_uavs << " of the Nt slots do: **supports** it.\n";
   }
@@ -253,24 +266,29 @@ std::string bs_claims(const ExperimentSettings& s, const std::vector<SummaryRow>
     }
     o << "- C4, \"the capacity increase persists with a massive-MIMO ground station\": at " << value_label(S, big)
       << " antennas the sum rate over random placement is "
-      << per_mover(s, [&](const std::string& a) { return fmt(gain(a, zf)) + "x (ZF) / " + fmt(gain(a, nv)) + "x (NV)"; })
-      << ". " << (zf_holds && nv_holds ? "**Supports** it for both receivers"
-                  : nv_holds ? "**Supports** it for the matched filter (NV) only; with zero-forcing the gain vanishes, "
-                               "because random rows of a large array are nearly orthogonal (favourable propagation)"
-                  : zf_holds ? "**Supports** it for zero-forcing only"
-                             : "**Contradicts** it for both receivers")
+      << per_mover(s,
+                   [&](const std::string& a) { return fmt(gain(a, zf)) + "x (ZF) / " + fmt(gain(a, nv)) + "x (NV)"; })
+      << ". "
+      << (zf_holds && nv_holds ? "**Supports** it for both receivers"
+          : nv_holds ? "**Supports** it for the matched filter (NV) only; with zero-forcing the gain vanishes, "
+                       "because random rows of a large array are nearly orthogonal (favourable propagation)"
+          : zf_holds ? "**Supports** it for zero-forcing only"
+                     : "**Contradicts** it for both receivers")
       << " (criterion: >= " << fmt(kSignificantGain, 1) << "x).\n";
     o << "- C3, \"a significant capacity increase at the cost of a bounded translation\": total distance per UAV "
-      << per_mover(s, [&](const std::string& a) {
-           std::string d;
-           for (const double v : p.values) d += (d.empty() ? "" : " / ") + fmt(mean(rows, S, v, a, metrics::kDistTotalM), 1);
-           return d + " m";
-         })
-      << " at " << [&] {
-           std::string v;
-           for (const double x : p.values) v += (v.empty() ? "" : " / ") + value_label(S, x);
-           return v;
-         }()
+      << per_mover(s,
+                   [&](const std::string& a) {
+                     std::string d;
+                     for (const double v : p.values)
+                       d += (d.empty() ? "" : " / ") + fmt(mean(rows, S, v, a, metrics::kDistTotalM), 1);
+                     return d + " m";
+                   })
+      << " at " <<
+        [&] {
+          std::string v;
+          for (const double x : p.values) v += (v.empty() ? "" : " / ") + value_label(S, x);
+          return v;
+        }()
       << " antennas, against a " << common::format_double(s.placement.scenario.cube_side_m)
       << " m start cube: bounded, **supports** it where the gain above is significant.\n";
   }
@@ -284,7 +302,8 @@ std::vector<std::string> write_channel_sweep_figure(const ExperimentSettings& s,
   const SweepPoints* p = s.sweep(sweep);
   if (!p) return {};
   const fs::path dir(out_dir);
-  const std::vector<MetricId> plotted = {metrics::kSumRateZfBpsHz, metrics::kSumRateNvBpsHz, kFinalIcnLos, metrics::kDistTotalM};
+  const std::vector<MetricId> plotted = {metrics::kSumRateZfBpsHz, metrics::kSumRateNvBpsHz, kFinalIcnLos,
+                                         metrics::kDistTotalM};
   std::ostringstream dat;
   for (const Algorithm a : s.algorithms) {
     dat << "# algorithm " << to_string(a) << ": x";
@@ -319,12 +338,12 @@ std::vector<std::string> write_channel_sweep_figure(const ExperimentSettings& s,
   const char* const titles[] = {"ergodic ZF sum rate [bit/s/Hz]", "ergodic NV sum rate [bit/s/Hz]",
                                 "LoS ICN at the final positions", "distance flown per UAV [m]"};
   for (std::size_t m = 0; m < plotted.size(); ++m) {
-    g << "set title '" << titles[m] << "'\nset ylabel ''\n" << (m == 2 ? "set yrange [0:1.05]\n" : "set autoscale y\n")
-      << "plot ";
+    g << "set title '" << titles[m] << "'\nset ylabel ''\n"
+      << (m == 2 ? "set yrange [0:1.05]\n" : "set autoscale y\n") << "plot ";
     for (std::size_t i = 0; i < s.algorithms.size(); ++i) {
       g << (i ? ", " : "") << "'" << sweep << ".dat' index " << i << " using 1:" << 2 + 2 * m << ":" << 3 + 2 * m
-        << " with yerrorlines lw 2 lc rgb '" << algorithm_color(s.algorithms[i]) << "' title '" << to_string(s.algorithms[i])
-        << "' noenhanced";
+        << " with yerrorlines lw 2 lc rgb '" << algorithm_color(s.algorithms[i]) << "' title '"
+        << to_string(s.algorithms[i]) << "' noenhanced";
     }
     g << "\n";
   }
@@ -332,8 +351,10 @@ std::vector<std::string> write_channel_sweep_figure(const ExperimentSettings& s,
   common::write_file_atomically((dir / (sweep + ".gp")).string(), g.str());
   if (!s.plots) return {};
   return common::render_gnuplot(dir.string(), {sweep},
-                                sweep + ".gp was written but not rendered (apt-get install gnuplot-nox, then run "
-                                        "gnuplot " + sweep + ".gp in the output folder)");
+                                sweep +
+                                    ".gp was written but not rendered (apt-get install gnuplot-nox, then run "
+                                    "gnuplot " +
+                                    sweep + ".gp in the output folder)");
 }
 
 std::string channel_sweep_report_section(const ExperimentSettings& s, const std::string& sweep,
@@ -341,14 +362,18 @@ std::string channel_sweep_report_section(const ExperimentSettings& s, const std:
   const SweepPoints* p = s.sweep(sweep);
   if (!p) return {};
   std::ostringstream md;
-  const std::string title = sweep == kSweepRicianK ? "Rician K-factor" : sweep == kSweepCsiSnr ? "CSI estimation noise"
-                                                                                                : "BS array size";
+  const std::string title = sweep == kSweepRicianK  ? "Rician K-factor"
+                            : sweep == kSweepCsiSnr ? "CSI estimation noise"
+                                                    : "BS array size";
   md << "## " << title << " (`" << sweep << "`)\n\n"
      << "Setup: " << setup_line(s, sweep) << ". Metrics at the final positions use the true channel: with fading, "
      << "the mean over " << s.placement.channel.fading_eval_draws
      << " scatter draws (ergodic sum rates); `LoS ICN` is the geometry's, which also gives the milestones. "
      << "docs/experiment.md explains the columns. ![" << sweep << "](" << sweep << ".png)\n\n"
-     << "| " << (sweep == kSweepBsAntennas ? "antennas" : sweep == kSweepRicianK ? "K [dB]" : "CSI SNR [dB]")
+     << "| "
+     << (sweep == kSweepBsAntennas ? "antennas"
+         : sweep == kSweepRicianK  ? "K [dB]"
+                                   : "CSI SNR [dB]")
      << " | algorithm | ZF sum rate | NV sum rate | ICN | LoS ICN | distance [m] | converged |\n"
      << "|---|---|---|---|---|---|---|---|\n";
   for (const double v : p->values) {
@@ -360,9 +385,10 @@ std::string channel_sweep_report_section(const ExperimentSettings& s, const std:
         if (!e || e->n == 0) return std::string("n/a");
         return fmt(e->mean, decimals) + (std::isfinite(e->ci95) ? " ± " + fmt(e->ci95, decimals) : "");
       };
-      md << "| " << value_label(sweep, v) << " | " << to_string(a) << " | " << cell(metrics::kSumRateZfBpsHz, 1) << " | "
-         << cell(metrics::kSumRateNvBpsHz, 1) << " | " << cell(metrics::kFinalIcn, 3) << " | " << cell(kFinalIcnLos, 3) << " | "
-         << cell(metrics::kDistTotalM, 1) << " | " << fmt(100.0 * r->converged_fraction, 0) << "% |\n";
+      md << "| " << value_label(sweep, v) << " | " << to_string(a) << " | " << cell(metrics::kSumRateZfBpsHz, 1)
+         << " | " << cell(metrics::kSumRateNvBpsHz, 1) << " | " << cell(metrics::kFinalIcn, 3) << " | "
+         << cell(kFinalIcnLos, 3) << " | " << cell(metrics::kDistTotalM, 1) << " | "
+         << fmt(100.0 * r->converged_fraction, 0) << "% |\n";
     }
   }
   md << "\n";

@@ -83,8 +83,8 @@ ChannelSweepSettings load_channel_sweep_settings(const ExperimentSettings& s) {
                                  " is not the antenna count of a square array n x n with n in [1, 64]");
       }
       if (runs_a_ura(s) && n < s.placement.scenario.num_uavs) {
-        throw common::InputError(where + ": " + std::to_string(n) + " antennas < scenario.num_uavs = " +
-                                 std::to_string(s.placement.scenario.num_uavs) +
+        throw common::InputError(where + ": " + std::to_string(n) +
+                                 " antennas < scenario.num_uavs = " + std::to_string(s.placement.scenario.num_uavs) +
                                  ": a URA needs a slot per UAV (drop the ura algorithms or the value)");
       }
     }

@@ -33,7 +33,8 @@ void write_trials_rows(std::ostream& out, const std::vector<TrialRecord>& record
       }
     }
     out << "," << r.start_seed << "," << r.status;
-    for (std::size_t i = 0; i < num_extra; ++i) out << "," << common::format_csv(i < r.extra.size() ? r.extra[i] : std::nan(""));
+    for (std::size_t i = 0; i < num_extra; ++i)
+      out << "," << common::format_csv(i < r.extra.size() ? r.extra[i] : std::nan(""));
     out << "\n";
   }
 }
@@ -42,13 +43,13 @@ void write_positions_header(std::ostream& out) { out << "sweep,value,algorithm,t
 
 void write_positions_rows(std::ostream& out, const std::vector<TrialRecord>& records) {
   for (const TrialRecord& r : records) {
-    const std::string prefix = r.sweep + "," + common::format_csv(r.value) + "," + r.algorithm + "," +
-                               std::to_string(r.trial) + ",";
-    for (const auto& [stage, q] : {std::pair<const char*, const Eigen::Matrix3Xd*>{"start", &r.start_m},
-                                   {"final", &r.final_m}}) {
+    const std::string prefix =
+        r.sweep + "," + common::format_csv(r.value) + "," + r.algorithm + "," + std::to_string(r.trial) + ",";
+    for (const auto& [stage, q] :
+         {std::pair<const char*, const Eigen::Matrix3Xd*>{"start", &r.start_m}, {"final", &r.final_m}}) {
       for (Eigen::Index n = 0; n < q->cols(); ++n) {
-        out << prefix << n + 1 << "," << stage << "," << common::format_exact((*q)(0, n)) << "," << common::format_exact((*q)(1, n)) << ","
-            << common::format_exact((*q)(2, n)) << "\n";
+        out << prefix << n + 1 << "," << stage << "," << common::format_exact((*q)(0, n)) << ","
+            << common::format_exact((*q)(1, n)) << "," << common::format_exact((*q)(2, n)) << "\n";
       }
     }
   }
@@ -60,8 +61,9 @@ void write_traces_csv(std::ostream& out, const std::vector<TracedRun>& traces) {
     if (!t.fig1()) continue;  // the path figure's runs under error: paths.csv only
     for (const placement::IterationRecord& r : t.result.trace) {
       out << to_string(t.algorithm) << "," << t.trial << "," << r.iteration << "," << common::format_csv(r.icn) << ","
-          << common::format_csv(r.objective) << "," << common::format_csv(r.sinr_nv_db) << "," << common::format_csv(r.sinr_zf_db) << ","
-          << common::format_csv(r.sinr_mf_db) << "," << common::format_csv(r.placement_dist_m) << "," << common::format_csv(r.probe_dist_m) << "\n";
+          << common::format_csv(r.objective) << "," << common::format_csv(r.sinr_nv_db) << ","
+          << common::format_csv(r.sinr_zf_db) << "," << common::format_csv(r.sinr_mf_db) << ","
+          << common::format_csv(r.placement_dist_m) << "," << common::format_csv(r.probe_dist_m) << "\n";
     }
   }
 }

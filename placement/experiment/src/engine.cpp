@@ -64,8 +64,7 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
 }
 
 ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentExtensions& extensions, int threads,
-                                 const ExperimentSlice& slice, const ProgressFn& progress,
-                                 const PointSink& sink) {
+                                 const ExperimentSlice& slice, const ProgressFn& progress, const PointSink& sink) {
   if (slice.shard_count < 1 || slice.shard_index < 0 || slice.shard_index >= slice.shard_count) {
     throw std::invalid_argument("run_experiment: shard " + std::to_string(slice.shard_index) + "/" +
                                 std::to_string(slice.shard_count) + " is not in 0..N-1");
@@ -143,7 +142,8 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
     }
     if (progress) {
       progress(static_cast<int>(p) + 1, static_cast<int>(points.size()),
-               points[p].sweep->name + " = " + common::format_g(points[p].sweep->values[points[p].point], common::kCsvDigits));
+               points[p].sweep->name + " = " +
+                   common::format_g(points[p].sweep->values[points[p].point], common::kCsvDigits));
     }
   }
   if (failure) next = total_jobs;  // stop handing out work
@@ -166,7 +166,8 @@ std::vector<TracedRun> traced_runs(const ExperimentSettings& s) {
   if (s.paths && s.fig1_trials > 0 && act) {
     const double sigma = *std::max_element(act->values.begin(), act->values.end());
     for (const Algorithm a : s.algorithms) {
-      if (sigma > 0.0 && (a == Algorithm::kGd || a == Algorithm::kBf)) traces.push_back({a, 0, run_path(s, a, 0, sigma), sigma});
+      if (sigma > 0.0 && (a == Algorithm::kGd || a == Algorithm::kBf))
+        traces.push_back({a, 0, run_path(s, a, 0, sigma), sigma});
     }
   }
   return traces;

@@ -16,7 +16,9 @@ namespace {
 std::string pos(double v) { return common::format_g(v, 8); }
 
 std::string run_title(const TracedRun& t) {
-  std::string name = t.algorithm == Algorithm::kGd ? "GD" : t.algorithm == Algorithm::kBf ? "BF" : to_string(t.algorithm);
+  std::string name = t.algorithm == Algorithm::kGd   ? "GD"
+                     : t.algorithm == Algorithm::kBf ? "BF"
+                                                     : to_string(t.algorithm);
   return name + (t.fig1() ? ", no error" : ", sigma_{act} " + common::format_double(t.sigma_act_m) + " m");
 }
 }  // namespace
@@ -32,8 +34,8 @@ std::vector<const TracedRun*> runs_with_path(const std::vector<TracedRun>& trace
 void write_paths_csv(std::ostream& out, const std::vector<TracedRun>& traces) {
   out << "algorithm,sigma_act_m,trial,iteration,uav,x,y,z\n";
   for (const TracedRun* t : runs_with_path(traces)) {
-    const std::string prefix = to_string(t->algorithm) + "," + common::format_double(t->sigma_act_m) + "," +
-                               std::to_string(t->trial) + ",";
+    const std::string prefix =
+        to_string(t->algorithm) + "," + common::format_double(t->sigma_act_m) + "," + std::to_string(t->trial) + ",";
     for (std::size_t i = 0; i < t->result.path.size(); ++i) {
       const Eigen::Matrix3Xd& q = t->result.path[i];
       for (Eigen::Index m = 0; m < q.cols(); ++m) {
@@ -74,15 +76,16 @@ std::string write_path_figure(const ExperimentSettings& s, const std::vector<Tra
     const std::vector<Eigen::Matrix3Xd>& path = t->result.path;
     dat << "# " << to_string(t->algorithm) << " sigma_act " << t->sigma_act_m << ": x y z uav\n";
     for (Eigen::Index m = 0; m < path.front().cols(); ++m) {
-      for (const Eigen::Matrix3Xd& q : path) dat << pos(q(0, m)) << " " << pos(q(1, m)) << " " << pos(q(2, m)) << " " << m + 1 << "\n";
+      for (const Eigen::Matrix3Xd& q : path)
+        dat << pos(q(0, m)) << " " << pos(q(1, m)) << " " << pos(q(2, m)) << " " << m + 1 << "\n";
       dat << "\n";
     }
     dat << "\n";
   }
   for (const TracedRun* t : runs) {
     dat << "# " << to_string(t->algorithm) << ": start and end, x y z uav stage folded_y folded_z\n";
-    for (const auto& [stage, q] : {std::pair<int, const Eigen::Matrix3Xd*>{0, &t->result.path.front()},
-                                   {1, &t->result.path.back()}}) {
+    for (const auto& [stage, q] :
+         {std::pair<int, const Eigen::Matrix3Xd*>{0, &t->result.path.front()}, {1, &t->result.path.back()}}) {
       for (Eigen::Index m = 0; m < q->cols(); ++m) {
         dat << pos((*q)(0, m)) << " " << pos((*q)(1, m)) << " " << pos((*q)(2, m)) << " " << m + 1 << " " << stage
             << " " << pos(fold((*q)(1, m), (*q)(0, m), sc.cube_center_m.y())) << " "
@@ -94,7 +97,8 @@ std::string write_path_figure(const ExperimentSettings& s, const std::vector<Tra
   dat << "# rigid URA slots (spacing multiple " << s.placement.ura.spacing_multiple << "): x y z\n";
   if (sc.num_uavs == sc.num_bs_antennas()) {
     const Eigen::Matrix3Xd slots = placement::optimal_ura_positions_m(sc, s.placement.ura.spacing_multiple);
-    for (Eigen::Index k = 0; k < slots.cols(); ++k) dat << pos(slots(0, k)) << " " << pos(slots(1, k)) << " " << pos(slots(2, k)) << "\n";
+    for (Eigen::Index k = 0; k < slots.cols(); ++k)
+      dat << pos(slots(0, k)) << " " << pos(slots(1, k)) << " " << pos(slots(2, k)) << "\n";
   } else {
     dat << "nan nan nan\n";
   }
@@ -129,10 +133,11 @@ std::string write_path_figure(const ExperimentSettings& s, const std::vector<Tra
   for (std::size_t i = 0; i < n; ++i) {
     gp << "set title '" << run_title(*runs[i]) << ": directions folded into one lateral period'\n"
        << "set xlabel 'y folded [m] at x = " << common::format_double(depth_m) << " m'\nset ylabel 'z folded [m]'\n"
-       << "unset label\nunset arrow\nset xrange [" << pos(-half) << ":" << pos(half) << "]\nset yrange ["
-       << pos(-half) << ":" << pos(half) << "]\n"
-       << "plot 'paths.dat' index " << n + i << " using 6:($5 == 0 ? $7 : 1/0):4 with points pt 6 ps 1 lc palette, '' index "
-       << n + i << " using 6:($5 == 1 ? $7 : 1/0):4 with points pt 7 ps 1.6 lc palette\n";
+       << "unset label\nunset arrow\nset xrange [" << pos(-half) << ":" << pos(half) << "]\nset yrange [" << pos(-half)
+       << ":" << pos(half) << "]\n"
+       << "plot 'paths.dat' index " << n + i
+       << " using 6:($5 == 0 ? $7 : 1/0):4 with points pt 6 ps 1 lc palette, '' index " << n + i
+       << " using 6:($5 == 1 ? $7 : 1/0):4 with points pt 7 ps 1.6 lc palette\n";
   }
   gp << "unset multiplot\n";
   common::write_file_atomically((fs::path(dir) / "paths.gp").string(), gp.str());

@@ -42,7 +42,8 @@ bool changes(const ReadingSpec& r, Algorithm a) {
     if (section == "gd" && a != Algorithm::kGd) continue;
     if (section == "bf" && a != Algorithm::kBf) continue;
     if (section == "cap" && a != Algorithm::kCap) continue;
-    if (section == "ura" && a != Algorithm::kUra && a != Algorithm::kUraLattice && a != Algorithm::kUraLatticeExact) continue;
+    if (section == "ura" && a != Algorithm::kUra && a != Algorithm::kUraLattice && a != Algorithm::kUraLatticeExact)
+      continue;
     return true;
   }
   return false;
@@ -233,12 +234,13 @@ std::string explain_difference(const PaperValue& p, int number, const ReadingRes
 
 std::string readings_section(const ReadingResults& res) {
   std::ostringstream md;
-  md << "## Readings\n\nEach reading sets the keys shown on top of this configuration and runs the first "
-     << res.trials << " trials at the paper values' sweep points with the same seeds (readings.csv has every "
+  md << "## Readings\n\nEach reading sets the keys shown on top of this configuration and runs the first " << res.trials
+     << " trials at the paper values' sweep points with the same seeds (readings.csv has every "
      << "number). Agreement here is at " << res.trials << " trials, so its CIs are wider than the table's.\n\n"
      << "| reading | agrees (of " << res.values.size() << ") | gains | loses |\n|---|---|---|---|\n";
   int base_agrees = 0;
-  for (std::size_t v = 0; v < res.values.size(); ++v) base_agrees += agrees(res.measures.front()[v].base, res.values[v]);
+  for (std::size_t v = 0; v < res.values.size(); ++v)
+    base_agrees += agrees(res.measures.front()[v].base, res.values[v]);
   md << "| (this configuration) | " << base_agrees << " | | |\n";
   for (std::size_t r = 0; r < res.readings.size(); ++r) {
     int count = 0;

@@ -28,8 +28,8 @@ void write_matrix(std::ostream& out, const Eigen::Matrix3Xd& q) {
 
 std::string record_text(int point, const TrialRecord& r) {
   std::ostringstream out;
-  out << "r," << point << "," << r.sweep << "," << common::format_exact(r.value) << "," << r.algorithm << "," << r.trial << ","
-      << r.seed << "," << r.start_seed << "," << r.status;
+  out << "r," << point << "," << r.sweep << "," << common::format_exact(r.value) << "," << r.algorithm << "," << r.trial
+      << "," << r.seed << "," << r.start_seed << "," << r.status;
   for (const Metric& m : kMetrics) out << "," << common::format_exact(m.get(r));
   out << "," << r.extra.size();
   for (const double v : r.extra) out << "," << common::format_exact(v);
@@ -110,7 +110,9 @@ TrialRecord parse_record(const std::vector<std::string>& f, std::size_t count, i
 }
 
 std::uint64_t parse_hex(const std::string& t, const std::string& where) {
-  if (t.size() != 16 || !std::all_of(t.begin(), t.end(), [](char c) { return std::isxdigit(static_cast<unsigned char>(c)) && !std::isupper(static_cast<unsigned char>(c)); }))
+  if (t.size() != 16 || !std::all_of(t.begin(), t.end(), [](char c) {
+        return std::isxdigit(static_cast<unsigned char>(c)) && !std::isupper(static_cast<unsigned char>(c));
+      }))
     throw InputError(where + ": '" + t + "' is not a digest (16 hex digits)");
   return std::stoull(t, nullptr, 16);
 }
@@ -232,7 +234,8 @@ void RecordsReader::header_line(const std::vector<std::string>& f, const std::st
   }
   RecordsHeader& h = result_.header;
   h.kind = f[1];
-  if (h.kind != kRecordsKindRun && h.kind != kRecordsKindShard) throw InputError(where + ": unknown kind '" + h.kind + "'");
+  if (h.kind != kRecordsKindRun && h.kind != kRecordsKindShard)
+    throw InputError(where + ": unknown kind '" + h.kind + "'");
   h.shard_count = static_cast<int>(common::parse_integer(f[3], where, 1, 1'000'000'000));
   h.shard_index = static_cast<int>(common::parse_integer(f[2], where, 0, h.shard_count - 1));
   h.config_digest = parse_hex(f[4], where);
@@ -260,7 +263,8 @@ void RecordsReader::record_line(const std::string& line, const std::vector<std::
 }
 
 // A d or e line: <kind>,<point or points>,<records>,<digest of the file before this line>.
-void RecordsReader::mark_line(const std::vector<std::string>& f, std::uint64_t digest_before, const std::string& where) {
+void RecordsReader::mark_line(const std::vector<std::string>& f, std::uint64_t digest_before,
+                              const std::string& where) {
   const std::string& kind = f[0];
   if (f.size() != 4) throw InputError(where + ": expected " + kind + ",<point>,<records>,<digest>");
   const long long n = common::parse_integer(f[2], where, 0, 1LL << 40);
@@ -303,8 +307,8 @@ void RecordsReader::file_end(const std::vector<std::string>& f, long long n, std
   if (!pending_.empty()) throw InputError(where + ": point " + std::to_string(next_point_) + " was not finished");
   if (points != next_point_ || n != result_.records || stated != digest_before) {
     throw InputError(where + ": the e line says " + f[1] + " points, " + f[2] + " records and digest " + f[3] +
-                     "; the file holds " + std::to_string(next_point_) + " points, " +
-                     std::to_string(result_.records) + " records, digest " + hex(digest_before));
+                     "; the file holds " + std::to_string(next_point_) + " points, " + std::to_string(result_.records) +
+                     " records, digest " + hex(digest_before));
   }
   ended_ = true;
 }

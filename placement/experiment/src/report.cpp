@@ -31,10 +31,9 @@ const SummaryRow* find_row(const std::vector<SummaryRow>& rows, const std::strin
   return nullptr;
 }
 
-
 // Gnuplot data block per algorithm of a sweep: value and (mean, ci) of the given metrics.
-std::string sweep_dat(const std::vector<SummaryRow>& rows, const std::string& sweep, const std::vector<Algorithm>& algorithms,
-                      const std::vector<MetricId>& metrics) {
+std::string sweep_dat(const std::vector<SummaryRow>& rows, const std::string& sweep,
+                      const std::vector<Algorithm>& algorithms, const std::vector<MetricId>& metrics) {
   std::ostringstream o;
   for (const Algorithm a : algorithms) {
     o << "# algorithm " << to_string(a) << ": value";
@@ -69,13 +68,20 @@ std::string gp_header(const std::string& png, const std::string& title, const st
 
 const char* algorithm_color(Algorithm a) {
   switch (a) {
-    case Algorithm::kGd: return "#1f77b4";
-    case Algorithm::kBf: return "#d62728";
-    case Algorithm::kUra: return "#2ca02c";
-    case Algorithm::kUraLattice: return "#ff7f0e";
-    case Algorithm::kUraLatticeExact: return "#9467bd";
-    case Algorithm::kCap: return "#8c564b";
-    case Algorithm::kRandom: return "#7f7f7f";
+    case Algorithm::kGd:
+      return "#1f77b4";
+    case Algorithm::kBf:
+      return "#d62728";
+    case Algorithm::kUra:
+      return "#2ca02c";
+    case Algorithm::kUraLattice:
+      return "#ff7f0e";
+    case Algorithm::kUraLatticeExact:
+      return "#9467bd";
+    case Algorithm::kCap:
+      return "#8c564b";
+    case Algorithm::kRandom:
+      return "#7f7f7f";
   }
   return "#000000";
 }
@@ -125,9 +131,10 @@ std::string describe(const RunTiming& t) {
   }
   o << "merged from " << t.shards << (t.shards == 1 ? " shard" : " shards");
   if (t.timed_shards == t.shards) {
-    o << " of " << (t.min_shard_threads == t.max_shard_threads
-                        ? threads(t.min_shard_threads)
-                        : std::to_string(t.min_shard_threads) + " to " + threads(t.max_shard_threads))
+    o << " of "
+      << (t.min_shard_threads == t.max_shard_threads
+              ? threads(t.min_shard_threads)
+              : std::to_string(t.min_shard_threads) + " to " + threads(t.max_shard_threads))
       << ": slowest " << fmt(t.slowest_shard_wall_s, 1) << " s wall, " << fmt(t.shards_wall_s, 1)
       << " s wall summed over shards";
   } else {
@@ -143,9 +150,8 @@ std::string describe(const RunTiming& t) {
 }
 
 ReportOutcome write_figures_and_report(const ExperimentSettings& s, const ExperimentExtensions& extensions,
-                                       const ExperimentResults& results,
-                                       const std::vector<SummaryRow>& rows, const std::string& out_dir,
-                                       const RunTiming& timing) {
+                                       const ExperimentResults& results, const std::vector<SummaryRow>& rows,
+                                       const std::string& out_dir, const RunTiming& timing) {
   ReportOutcome outcome;
   const fs::path dir(out_dir);
   std::vector<Algorithm> movers;
@@ -170,18 +176,19 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
     }
     common::write_file_atomically((dir / "fig1.dat").string(), dat.str());
     std::ostringstream a, b;
-    a << gp_header("fig1a.png", "Fig 1a: ICN against iteration (no errors)", "iteration", "ICN") << "set yrange [0:1]\nplot ";
+    a << gp_header("fig1a.png", "Fig 1a: ICN against iteration (no errors)", "iteration", "ICN")
+      << "set yrange [0:1]\nplot ";
     b << gp_header("fig1b.png", "Fig 1b: SINR of stream 1 against iteration (NV solid, ZF dashed, MF dash-dot)",
                    "iteration", "SINR [dB]")
       << "plot ";
     for (std::size_t i = 0; i < traced.size(); ++i) {
       const std::string c = algorithm_color(traced[i]);
       const std::string name = to_string(traced[i]);
-      a << (i ? ", " : "") << "'fig1.dat' index " << i << " using 1:2 with lines lw 2 lc rgb '" << c
-        << "' title '" << name << "' noenhanced";
-      b << (i ? ", " : "") << "'fig1.dat' index " << i << " using 1:3 with lines lw 2 dt 1 lc rgb '" << c
-        << "' title '" << name << " NV' noenhanced, '' index " << i << " using 1:4 with lines lw 2 dt 2 lc rgb '" << c
-        << "' title '" << name << " ZF' noenhanced, '' index " << i << " using 1:5 with lines lw 1 dt 4 lc rgb '#9467bd' title '"
+      a << (i ? ", " : "") << "'fig1.dat' index " << i << " using 1:2 with lines lw 2 lc rgb '" << c << "' title '"
+        << name << "' noenhanced";
+      b << (i ? ", " : "") << "'fig1.dat' index " << i << " using 1:3 with lines lw 2 dt 1 lc rgb '" << c << "' title '"
+        << name << " NV' noenhanced, '' index " << i << " using 1:4 with lines lw 2 dt 2 lc rgb '" << c << "' title '"
+        << name << " ZF' noenhanced, '' index " << i << " using 1:5 with lines lw 1 dt 4 lc rgb '#9467bd' title '"
         << name << " MF'";
     }
     common::write_file_atomically((dir / "fig1a.gp").string(), a.str() + "\n");
@@ -193,8 +200,9 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
 
   // Fig 2a: distances against sigma_loc.
   if (s.sweep(kSweepSigmaLoc)) {
-    common::write_file_atomically((dir / "fig2a.dat").string(),
-                          sweep_dat(rows, kSweepSigmaLoc, movers, {metrics::kDistToIcn050M, metrics::kDistToIcn095M}));
+    common::write_file_atomically(
+        (dir / "fig2a.dat").string(),
+        sweep_dat(rows, kSweepSigmaLoc, movers, {metrics::kDistToIcn050M, metrics::kDistToIcn095M}));
     std::ostringstream g;
     g << gp_header("fig2a.png", "Fig 2a: mean distance per UAV to ICN 0.5 (solid) and 0.95 (dotted)",
                    "localization error sigma_{loc} [m]", "distance per UAV [m]")
@@ -203,21 +211,22 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
       const std::string c = algorithm_color(movers[i]);
       const std::string name = to_string(movers[i]);
       g << (i ? ", " : "") << "'fig2a.dat' index " << i << " using 1:2:3 with yerrorlines lw 2 dt 1 lc rgb '" << c
-        << "' title '" << name << " ICN 0.5' noenhanced, '' index " << i << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '"
-        << c << "' title '" << name << " ICN 0.95' noenhanced";
+        << "' title '" << name << " ICN 0.5' noenhanced, '' index " << i
+        << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '" << c << "' title '" << name << " ICN 0.95' noenhanced";
     }
     common::write_file_atomically((dir / "fig2a.gp").string(), g.str() + "\n");
   }
 
   // Fig 2b and Fig 3: final SINR.
   if (s.sweep(kSweepSigmaLoc)) stems.push_back("fig2a");
-  for (const auto& [sweep, stem, xlabel] :
-       {std::tuple<std::string, std::string, std::string>{kSweepSigmaLoc, "fig2b", "localization error sigma_{loc} [m]"},
-        {kSweepSigmaAct, "fig3", "actuation error sigma_{act} [m]"}}) {
+  for (const auto& [sweep, stem, xlabel] : {std::tuple<std::string, std::string, std::string>{
+                                                kSweepSigmaLoc, "fig2b", "localization error sigma_{loc} [m]"},
+                                            {kSweepSigmaAct, "fig3", "actuation error sigma_{act} [m]"}}) {
     if (!s.sweep(sweep)) continue;
     stems.push_back(stem);
-    common::write_file_atomically((dir / (stem + ".dat")).string(),
-                          sweep_dat(rows, sweep, s.algorithms, {metrics::kSinrNvDb, metrics::kSinrZfDb, metrics::kSinrMfDb}));
+    common::write_file_atomically(
+        (dir / (stem + ".dat")).string(),
+        sweep_dat(rows, sweep, s.algorithms, {metrics::kSinrNvDb, metrics::kSinrZfDb, metrics::kSinrMfDb}));
     std::ostringstream g;
     g << gp_header(stem + ".png",
                    (stem == "fig2b" ? "Fig 2b" : "Fig 3") +
@@ -228,8 +237,8 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
       const std::string c = algorithm_color(s.algorithms[i]);
       const std::string name = to_string(s.algorithms[i]);
       g << (i ? ", " : "") << "'" << stem << ".dat' index " << i << " using 1:2:3 with yerrorlines lw 2 dt 1 lc rgb '"
-        << c << "' title '" << name << " NV' noenhanced, '' index " << i << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '"
-        << c << "' title '" << name << " ZF' noenhanced";
+        << c << "' title '" << name << " NV' noenhanced, '' index " << i
+        << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '" << c << "' title '" << name << " ZF' noenhanced";
       if (i == 0) g << ", '' index 0 using 1:6 with lines lw 1 dt 4 lc rgb '#9467bd' title 'MF'";
     }
     common::write_file_atomically((dir / (stem + ".gp")).string(), g.str() + "\n");
@@ -256,8 +265,7 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
      << ". Configuration: `config.ini`. Means with 95% confidence half-widths "
      << "(Student t) over the trials where the quantity is defined (n). A value agrees with the "
      << "paper when it is within the CI plus the resolution at which the paper's plot can be read "
-     << "(0.5 dB, 0.5 m, 5 iterations).\n\n"
-     ;
+     << "(0.5 dB, 0.5 m, 5 iterations).\n\n";
   if (!stems.empty()) {
     md << "Figures:";
     for (const std::string& stem : stems) md << " ![" << stem << "](" << stem << ".png)";
@@ -267,15 +275,16 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
   const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
   // The readings' paired runs (none unless [experiment] readings): the Why lines' measurements.
   const ReadingResults readings =
-      builtin ? measure_readings(s, extensions,
-                                 s.threads > 0 ? s.threads
-                                               : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())))
+      builtin ? measure_readings(
+                    s, extensions,
+                    s.threads > 0 ? s.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())))
               : ReadingResults{};
   if (!readings.empty()) {
     common::write_stream_atomically((dir / "readings.csv").string(),
                                     [&](std::ostream& o) { write_readings_csv(o, readings); });
   }
-  if (builtin) md << "| # | figure | quantity | paper | measured | 95% CI | n | agrees |\n|---|---|---|---|---|---|---|---|\n";
+  if (builtin)
+    md << "| # | figure | quantity | paper | measured | 95% CI | n | agrees |\n|---|---|---|---|---|---|---|---|\n";
   int number = 0;
   for (const PaperValue& p : builtin ? paper_values() : std::vector<PaperValue>{}) {
     ++number;
@@ -284,12 +293,14 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
     const Estimate* e = row ? row->metric(p.metric) : nullptr;
     // Without milestone columns, Fig 1's counts are the runs' iterations (equal when they stop at 0.95).
     if (row && !e && p.metric == metrics::kIterationsToIcn095) e = row->metric(metrics::kIterations);
-    const std::string head = "| " + std::to_string(number) + " | " + p.figure + " | " + p.quantity + " | " + fmt(p.paper, 1) + " | ";
+    const std::string head =
+        "| " + std::to_string(number) + " | " + p.figure + " | " + p.quantity + " | " + fmt(p.paper, 1) + " | ";
     if (!e) {
       md << head << "not run | | | |\n";
       continue;
     }
-    const std::string label = "#" + std::to_string(number) + " " + p.figure + ", " + p.quantity + ": paper " + fmt(p.paper, 1);
+    const std::string label =
+        "#" + std::to_string(number) + " " + p.figure + ", " + p.quantity + ": paper " + fmt(p.paper, 1);
     if (e->n == 0) {
       md << head << "never reached in " << row->trials << " trials | | 0 | **no** |\n";
       differences.push_back(label + ", never reached here within the iteration cap. Why: " +
@@ -298,10 +309,11 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
     }
     const bool agreement = agrees(*e, p);
     const double ci = std::isfinite(e->ci95) ? e->ci95 : 0.0;
-    md << head << fmt(e->mean, 2) << " | ±" << fmt(ci, 2) << " | " << e->n << " | " << (agreement ? "yes" : "**no**") << " |\n";
+    md << head << fmt(e->mean, 2) << " | ±" << fmt(ci, 2) << " | " << e->n << " | " << (agreement ? "yes" : "**no**")
+       << " |\n";
     if (!agreement) {
-      differences.push_back(label + ", measured " + fmt(e->mean, 2) + " ± " + fmt(ci, 2) + ". Why: " +
-                            explain_difference(p, number, readings) + ".");
+      differences.push_back(label + ", measured " + fmt(e->mean, 2) + " ± " + fmt(ci, 2) +
+                            ". Why: " + explain_difference(p, number, readings) + ".");
     }
   }
   // The abstract's claims: capacity ratio and SINR gain over random placement at the start.

@@ -13,9 +13,9 @@
 namespace losmimo::experiment {
 
 namespace {
-constexpr Algorithm kAllAlgorithms[] = {Algorithm::kRandom, Algorithm::kGd, Algorithm::kBf,
-                                        Algorithm::kUra, Algorithm::kUraLattice,
-                                        Algorithm::kUraLatticeExact, Algorithm::kCap};
+constexpr Algorithm kAllAlgorithms[] = {Algorithm::kRandom, Algorithm::kGd,         Algorithm::kBf,
+                                        Algorithm::kUra,    Algorithm::kUraLattice, Algorithm::kUraLatticeExact,
+                                        Algorithm::kCap};
 
 const ExperimentExtension* find_extension(const ExperimentExtensions& extensions, const std::string& sweep) {
   for (const ExperimentExtension& e : extensions) {
@@ -27,13 +27,20 @@ const ExperimentExtension* find_extension(const ExperimentExtensions& extensions
 
 std::string to_string(Algorithm a) {
   switch (a) {
-    case Algorithm::kRandom: return "random";
-    case Algorithm::kGd: return "gd";
-    case Algorithm::kBf: return "bf";
-    case Algorithm::kUra: return "ura";
-    case Algorithm::kUraLattice: return "ura_lattice";
-    case Algorithm::kUraLatticeExact: return "ura_lattice_exact";
-    case Algorithm::kCap: return "cap";
+    case Algorithm::kRandom:
+      return "random";
+    case Algorithm::kGd:
+      return "gd";
+    case Algorithm::kBf:
+      return "bf";
+    case Algorithm::kUra:
+      return "ura";
+    case Algorithm::kUraLattice:
+      return "ura_lattice";
+    case Algorithm::kUraLatticeExact:
+      return "ura_lattice_exact";
+    case Algorithm::kCap:
+      return "cap";
   }
   return "?";
 }
@@ -42,7 +49,8 @@ Algorithm algorithm_from_string(const std::string& name, const std::string& wher
   for (const Algorithm a : kAllAlgorithms) {
     if (to_string(a) == name) return a;
   }
-  throw common::InputError(where + ": unknown algorithm '" + name + "' (known: random, gd, bf, ura, ura_lattice, ura_lattice_exact, cap)");
+  throw common::InputError(where + ": unknown algorithm '" + name +
+                           "' (known: random, gd, bf, ura, ura_lattice, ura_lattice_exact, cap)");
 }
 
 std::string ReadingSpec::text() const {
@@ -79,8 +87,8 @@ bool valid_reading_name(const std::string& name) {
   return true;
 }
 
-// "name: section.key=value, ... | name: ..." (an empty text: none; ';' would start an INI comment). The keys are checked when the
-// readings are applied (load_experiment_settings).
+// "name: section.key=value, ... | name: ..." (an empty text: none; ';' would start an INI comment). The keys are
+// checked when the readings are applied (load_experiment_settings).
 std::vector<ReadingSpec> parse_readings(const std::string& text, const std::string& where) {
   std::vector<ReadingSpec> readings;
   if (common::trim(text).empty()) return readings;
@@ -103,7 +111,8 @@ std::vector<ReadingSpec> parse_readings(const std::string& text, const std::stri
     for (const std::string& assignment : common::split_list(item.substr(colon + 1))) {
       const std::size_t eq = assignment.find('=');
       const std::size_t dot = assignment.find('.');
-      if (eq == std::string::npos || dot == std::string::npos || dot > eq || common::trim(assignment.substr(eq + 1)).empty()) {
+      if (eq == std::string::npos || dot == std::string::npos || dot > eq ||
+          common::trim(assignment.substr(eq + 1)).empty()) {
         throw common::InputError(where + ": reading '" + r.name + "': '" + assignment +
                                  "': expected section.key=value");
       }
@@ -131,48 +140,50 @@ std::vector<common::Key<ExperimentSettings>> experiment_key_list() {
       K::integer("experiment", "seed", &ExperimentSettings::seed, 0, (1LL << 62),
                  "base seed; every number of a trial derives from it", "7"),
       // Read before `sweeps`, which takes the built-in sweeps' values from here.
-      K::real_list("experiment", "sigma_loc_values_m",
-                   [](auto& s) -> auto& { return builtin_values(s, kSweepSigmaLoc); }, placement::error_range::sigma_loc_m, "sweep points of sigma_loc_m [m]", "0, 0.1")
+      K::real_list(
+          "experiment", "sigma_loc_values_m", [](auto& s) -> auto& { return builtin_values(s, kSweepSigmaLoc); },
+          placement::error_range::sigma_loc_m, "sweep points of sigma_loc_m [m]", "0, 0.1")
           .written_if([](const ExperimentSettings& s) { return s.sweep(kSweepSigmaLoc) != nullptr; }),
-      K::real_list("experiment", "sigma_act_values_m",
-                   [](auto& s) -> auto& { return builtin_values(s, kSweepSigmaAct); }, placement::error_range::sigma_act_m, "sweep points of sigma_act_m [m]", "0.05")
+      K::real_list(
+          "experiment", "sigma_act_values_m", [](auto& s) -> auto& { return builtin_values(s, kSweepSigmaAct); },
+          placement::error_range::sigma_act_m, "sweep points of sigma_act_m [m]", "0.05")
           .written_if([](const ExperimentSettings& s) { return s.sweep(kSweepSigmaAct) != nullptr; }),
-      K::text("experiment", "sweeps",
-              [](ExperimentSettings& s, const std::string& text, const std::string& where) {
-                // Names other than the built-in ones are the extensions' (checked once they are known).
-                std::vector<SweepPoints> sweeps;
-                for (const std::string& name : common::split_list(text)) {
-                  for (const SweepPoints& seen : sweeps) {
-                    if (seen.name == name) throw common::InputError(where + ": sweep '" + name + "' listed twice");
-                  }
-                  const SweepPoints* builtin = s.sweep(name);
-                  sweeps.push_back(builtin ? *builtin : SweepPoints{name, {}});
-                }
-                if (sweeps.empty()) throw common::InputError(where + ": needs at least one sweep");
-                s.sweeps = sweeps;
-              },
-              [](const ExperimentSettings& s) {
-                return join_names(s.sweeps, [](const SweepPoints& p) { return p.name; });
-              },
-              "comma-separated sweep names",
-              "the sweeps to run, in order (extensions add more, e.g. fusion's beacon_noise_m)", "sigma_act_m"),
-      K::text("experiment", "algorithms",
-              [](ExperimentSettings& s, const std::string& text, const std::string& where) {
-                s.algorithms.clear();
-                for (const std::string& name : common::split_list(text)) {
-                  const Algorithm a = algorithm_from_string(name, where);
-                  if (std::find(s.algorithms.begin(), s.algorithms.end(), a) != s.algorithms.end()) {
-                    throw common::InputError(where + ": algorithm '" + name + "' listed twice");
-                  }
-                  s.algorithms.push_back(a);
-                }
-                if (s.algorithms.empty()) throw common::InputError(where + ": needs at least one algorithm");
-              },
-              [](const ExperimentSettings& s) {
-                return join_names(s.algorithms, [](Algorithm a) { return to_string(a); });
-              },
-              "comma-separated: random, gd, bf, ura, ura_lattice, ura_lattice_exact, cap",
-              "the built-in sweeps' algorithms (default: all but ura_lattice_exact and cap)", "gd, bf"),
+      K::text(
+          "experiment", "sweeps",
+          [](ExperimentSettings& s, const std::string& text, const std::string& where) {
+            // Names other than the built-in ones are the extensions' (checked once they are known).
+            std::vector<SweepPoints> sweeps;
+            for (const std::string& name : common::split_list(text)) {
+              for (const SweepPoints& seen : sweeps) {
+                if (seen.name == name) throw common::InputError(where + ": sweep '" + name + "' listed twice");
+              }
+              const SweepPoints* builtin = s.sweep(name);
+              sweeps.push_back(builtin ? *builtin : SweepPoints{name, {}});
+            }
+            if (sweeps.empty()) throw common::InputError(where + ": needs at least one sweep");
+            s.sweeps = sweeps;
+          },
+          [](const ExperimentSettings& s) { return join_names(s.sweeps, [](const SweepPoints& p) { return p.name; }); },
+          "comma-separated sweep names",
+          "the sweeps to run, in order (extensions add more, e.g. fusion's beacon_noise_m)", "sigma_act_m"),
+      K::text(
+          "experiment", "algorithms",
+          [](ExperimentSettings& s, const std::string& text, const std::string& where) {
+            s.algorithms.clear();
+            for (const std::string& name : common::split_list(text)) {
+              const Algorithm a = algorithm_from_string(name, where);
+              if (std::find(s.algorithms.begin(), s.algorithms.end(), a) != s.algorithms.end()) {
+                throw common::InputError(where + ": algorithm '" + name + "' listed twice");
+              }
+              s.algorithms.push_back(a);
+            }
+            if (s.algorithms.empty()) throw common::InputError(where + ": needs at least one algorithm");
+          },
+          [](const ExperimentSettings& s) {
+            return join_names(s.algorithms, [](Algorithm a) { return to_string(a); });
+          },
+          "comma-separated: random, gd, bf, ura, ura_lattice, ura_lattice_exact, cap",
+          "the built-in sweeps' algorithms (default: all but ura_lattice_exact and cap)", "gd, bf"),
       K::integer("experiment", "fig1_trials", &ExperimentSettings::fig1_trials, 0, 10000,
                  "traced runs per algorithm for Fig 1 (no errors)", "2"),
       K::integer("experiment", "threads", &ExperimentSettings::threads, 0, 1024,
@@ -185,18 +196,19 @@ std::vector<common::Key<ExperimentSettings>> experiment_key_list() {
       K::boolean("experiment", "paths", &ExperimentSettings::paths,
                  "the path figure (paths.csv, paths.png) of the Fig 1 runs and under the largest sigma_act", "false")
           .unless_default(),
-      K::text("experiment", "readings",
-              [](ExperimentSettings& s, const std::string& text, const std::string& where) {
-                s.readings = parse_readings(text, where);
-              },
-              [](const ExperimentSettings& s) {
-                std::string out;
-                for (const ReadingSpec& r : s.readings) out += (out.empty() ? "" : " | ") + r.text();
-                return out;
-              },
-              "name: section.key=value, ... | name: ... (none: empty)",
-              "readings measured beside this run: report.md's Why lines and readings.csv (readings.h)",
-              "gd-noescape: gd.escape=false, gd.stall_window=30 | bf-k: bf.contraction=1")
+      K::text(
+          "experiment", "readings",
+          [](ExperimentSettings& s, const std::string& text, const std::string& where) {
+            s.readings = parse_readings(text, where);
+          },
+          [](const ExperimentSettings& s) {
+            std::string out;
+            for (const ReadingSpec& r : s.readings) out += (out.empty() ? "" : " | ") + r.text();
+            return out;
+          },
+          "name: section.key=value, ... | name: ... (none: empty)",
+          "readings measured beside this run: report.md's Why lines and readings.csv (readings.h)",
+          "gd-noescape: gd.escape=false, gd.stall_window=30 | bf-k: bf.contraction=1")
           .unless_default(),
       K::integer("experiment", "reading_trials", &ExperimentSettings::reading_trials, 2, 1'000'000,
                  "trials per reading (the first ones of this run's)", "20")
@@ -240,13 +252,16 @@ ExperimentSettings load_experiment_settings(const common::IniConfig& cfg, const 
     // sweep points and algorithms would measure nothing.
     const auto measurable = [&s](const PaperValue& p) {
       const SweepPoints* points = s.sweep(p.sweep);
-      return points && std::any_of(points->values.begin(), points->values.end(), [&](double v) { return v == p.value; }) &&
-             std::any_of(s.algorithms.begin(), s.algorithms.end(), [&](Algorithm a) { return to_string(a) == p.algorithm; });
+      return points &&
+             std::any_of(points->values.begin(), points->values.end(), [&](double v) { return v == p.value; }) &&
+             std::any_of(s.algorithms.begin(), s.algorithms.end(),
+                         [&](Algorithm a) { return to_string(a) == p.algorithm; });
     };
     const std::vector<PaperValue> paper = paper_values();
     if (!s.readings.empty() && std::none_of(paper.begin(), paper.end(), measurable)) {
-      throw common::FieldError("readings", "measured at the paper's values only (sweep sigma_loc_m or sigma_act_m at "
-                                           "a point such as 0, with random, gd, bf or ura): this run has none of them");
+      throw common::FieldError("readings",
+                               "measured at the paper's values only (sweep sigma_loc_m or sigma_act_m at "
+                               "a point such as 0, with random, gd, bf or ura): this run has none of them");
     }
     const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
     const auto ura = std::find_if(s.algorithms.begin(), s.algorithms.end(), [](Algorithm a) {

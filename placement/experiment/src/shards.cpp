@@ -43,11 +43,13 @@ ExperimentResults merge_shard_records(const ExperimentSettings& settings, const 
   for (std::size_t s = 0; s < shards.size(); ++s) {
     const RecordsHeader& h = shards[s].header;
     if (static_cast<int>(shards[s].points.size()) != points) {
-      throw common::InputError(origins[s] + ": " + std::to_string(shards[s].points.size()) + " points where the config has " +
-                               std::to_string(points));
+      throw common::InputError(origins[s] + ": " + std::to_string(shards[s].points.size()) +
+                               " points where the config has " + std::to_string(points));
     }
     for (const auto& [point, records] : shards[s].points) {
-      if (point >= points) throw common::InputError(origins[s] + ": point " + std::to_string(point) + " beyond the config's " + std::to_string(points));
+      if (point >= points)
+        throw common::InputError(origins[s] + ": point " + std::to_string(point) + " beyond the config's " +
+                                 std::to_string(points));
       std::set<int> mine;  // the trials of this point that are this shard's jobs
       for (int t = 0; t < trials; ++t) {
         if ((static_cast<long long>(point) * trials + t) % h.shard_count == h.shard_index) mine.insert(t);
@@ -56,8 +58,8 @@ ExperimentResults merge_shard_records(const ExperimentSettings& settings, const 
       for (const TrialRecord& r : records) {
         int& o = owner[static_cast<std::size_t>(point) * trials + r.trial];
         if (o != -1 && o != static_cast<int>(s)) {
-          throw common::InputError(origins[s] + ": point " + std::to_string(point) + ", trial " + std::to_string(r.trial) +
-                                   " is also in " + origins[o]);
+          throw common::InputError(origins[s] + ": point " + std::to_string(point) + ", trial " +
+                                   std::to_string(r.trial) + " is also in " + origins[o]);
         }
         o = static_cast<int>(s);
         algorithms[point].insert(r.algorithm);
@@ -103,7 +105,7 @@ void add_shard_timing(const common::IniConfig& shard_ini, RunTiming& timing) {
   const double wall_s = shard_ini.get_double("shard", "wall_s", 0.0);
   if (!std::isfinite(wall_s) || wall_s < 0.0) {
     throw common::InputError(shard_ini.where("shard", "wall_s") + " = " + shard_ini.get_string("shard", "wall_s", "") +
-                     ": must be a finite number of seconds >= 0");
+                             ": must be a finite number of seconds >= 0");
   }
   const int threads = static_cast<int>(shard_ini.get_integer("shard", "threads", 1, 1, 1'000'000));
   ++timing.timed_shards;

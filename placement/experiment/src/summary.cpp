@@ -9,8 +9,7 @@
 
 namespace losmimo::experiment {
 
-namespace {
-}  // namespace
+namespace {}  // namespace
 
 Estimate estimate(const std::vector<double>& values) {
   Estimate e;
@@ -36,8 +35,7 @@ Estimate estimate(const std::vector<double>& values) {
   // (within 0.3% from 3 degrees of freedom on).
   const int dof = e.n - 1;
   const double z = 1.959963984540054;
-  double t = z + (z * z * z + z) / (4.0 * dof) +
-             (5 * std::pow(z, 5) + 16 * z * z * z + 3 * z) / (96.0 * dof * dof);
+  double t = z + (z * z * z + z) / (4.0 * dof) + (5 * std::pow(z, 5) + 16 * z * z * z + 3 * z) / (96.0 * dof * dof);
   if (dof == 1) t = 12.706204736;
   if (dof == 2) t = 4.302652730;
   e.ci95 = t * sd / std::sqrt(static_cast<double>(e.n));
@@ -64,7 +62,8 @@ std::vector<SummaryRow> summarize(const std::vector<TrialRecord>& records, const
     while (j < records.size() && records[j].sweep == records[i].sweep && records[j].value == records[i].value) ++j;
     std::vector<std::string> order;
     for (std::size_t k = i; k < j; ++k) {
-      if (std::find(order.begin(), order.end(), records[k].algorithm) == order.end()) order.push_back(records[k].algorithm);
+      if (std::find(order.begin(), order.end(), records[k].algorithm) == order.end())
+        order.push_back(records[k].algorithm);
     }
     for (const std::string& a : order) {
       SummaryRow row{records[i].sweep, records[i].value, a, 0, 0.0, {}};
@@ -99,7 +98,8 @@ void write_summary_csv(std::ostream& out, const std::vector<SummaryRow>& rows) {
   for (const SummaryRow& r : rows) {
     out << r.sweep << "," << common::format_csv(r.value) << "," << r.algorithm << "," << r.trials << ","
         << common::format_csv(r.converged_fraction);
-    for (const auto& [name, e] : r.metrics) out << "," << common::format_csv(e.mean) << "," << common::format_csv(e.ci95) << "," << e.n;
+    for (const auto& [name, e] : r.metrics)
+      out << "," << common::format_csv(e.mean) << "," << common::format_csv(e.ci95) << "," << e.n;
     out << "\n";
   }
 }

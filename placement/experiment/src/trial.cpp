@@ -32,43 +32,64 @@ double mean_db(const Eigen::VectorXd& linear) {
 
 std::unique_ptr<placement::Planner> make_planner(const placement::PlacementSettings& p, Algorithm a) {
   switch (a) {
-    case Algorithm::kGd: return std::make_unique<placement::GradientDescentPlanner>(p.scenario, p.gd);
-    case Algorithm::kBf: return std::make_unique<placement::BruteForcePlanner>(p.scenario, p.bf);
-    case Algorithm::kCap: return std::make_unique<placement::CapacityPlanner>(p.scenario, p.cap);
+    case Algorithm::kGd:
+      return std::make_unique<placement::GradientDescentPlanner>(p.scenario, p.gd);
+    case Algorithm::kBf:
+      return std::make_unique<placement::BruteForcePlanner>(p.scenario, p.bf);
+    case Algorithm::kCap:
+      return std::make_unique<placement::CapacityPlanner>(p.scenario, p.cap);
     case Algorithm::kUra:
     case Algorithm::kUraLattice:
-    case Algorithm::kUraLatticeExact: return std::make_unique<placement::UraPlanner>(p.scenario, ura_variant_of(a), p.ura);
-    case Algorithm::kRandom: break;
+    case Algorithm::kUraLatticeExact:
+      return std::make_unique<placement::UraPlanner>(p.scenario, ura_variant_of(a), p.ura);
+    case Algorithm::kRandom:
+      break;
   }
   return nullptr;
 }
 
 placement::UraVariant ura_variant_of(Algorithm a) {
   switch (a) {
-    case Algorithm::kUraLattice: return placement::UraVariant::kLattice;
-    case Algorithm::kUraLatticeExact: return placement::UraVariant::kLatticeExact;
-    default: return placement::UraVariant::kRigid;
+    case Algorithm::kUraLattice:
+      return placement::UraVariant::kLattice;
+    case Algorithm::kUraLatticeExact:
+      return placement::UraVariant::kLatticeExact;
+    default:
+      return placement::UraVariant::kRigid;
   }
 }
 
 Algorithm ura_algorithm_of(placement::UraVariant variant) {
   switch (variant) {
-    case placement::UraVariant::kLattice: return Algorithm::kUraLattice;
-    case placement::UraVariant::kLatticeExact: return Algorithm::kUraLatticeExact;
-    case placement::UraVariant::kRigid: break;
+    case placement::UraVariant::kLattice:
+      return Algorithm::kUraLattice;
+    case placement::UraVariant::kLatticeExact:
+      return Algorithm::kUraLatticeExact;
+    case placement::UraVariant::kRigid:
+      break;
   }
   return Algorithm::kUra;
 }
 
 placement::RunOptions run_options_of(const placement::PlacementSettings& p, Algorithm a, placement::RunOptions run) {
   switch (a) {
-    case Algorithm::kGd: run = placement::with_override(run, p.gd_run); break;
-    case Algorithm::kBf: run = placement::with_override(run, p.bf_run); break;
-    case Algorithm::kCap: run = placement::with_override(run, p.cap_run); break;
+    case Algorithm::kGd:
+      run = placement::with_override(run, p.gd_run);
+      break;
+    case Algorithm::kBf:
+      run = placement::with_override(run, p.bf_run);
+      break;
+    case Algorithm::kCap:
+      run = placement::with_override(run, p.cap_run);
+      break;
     case Algorithm::kUra:
     case Algorithm::kUraLattice:
-    case Algorithm::kUraLatticeExact: run = placement::with_override(run, p.ura_run); break;
-    case Algorithm::kRandom: run.max_iterations = 0; break;
+    case Algorithm::kUraLatticeExact:
+      run = placement::with_override(run, p.ura_run);
+      break;
+    case Algorithm::kRandom:
+      run.max_iterations = 0;
+      break;
   }
   run.noise_variance = p.scenario.noise_variance();
   return run;
@@ -100,7 +121,8 @@ Eigen::Matrix3Xd trial_start_positions_m(const ExperimentSettings& s, int trial)
 }
 
 std::uint64_t trial_seed(const ExperimentSettings& s, const std::string& sweep, int point, int trial) {
-  return common::derive_seed(s.seed, {1, common::fnv1a64(sweep), static_cast<std::uint64_t>(point), static_cast<std::uint64_t>(trial)});
+  return common::derive_seed(
+      s.seed, {1, common::fnv1a64(sweep), static_cast<std::uint64_t>(point), static_cast<std::uint64_t>(trial)});
 }
 
 std::uint64_t trial_scatter_seed(const ExperimentSettings& s, int trial) {
@@ -186,7 +208,8 @@ std::vector<TrialRecord> run_trial(const ExperimentSettings& s, const std::strin
   run.full_icn_trace = false;  // only milestones and the final positions are recorded
   std::vector<TrialRecord> records;
   for (const Algorithm a : s.algorithms) {
-    records.push_back(make_record(s, p, sweep, point, trial, to_string(a), run_algorithm(s, p, a, trial, start, seed, run)));
+    records.push_back(
+        make_record(s, p, sweep, point, trial, to_string(a), run_algorithm(s, p, a, trial, start, seed, run)));
   }
   return records;
 }

@@ -15,8 +15,8 @@ namespace {
 using test_support::fraction_in_pose_nees_band;
 using test_support::mean_nees;
 using test_support::range_rmse_m;
-using test_support::run_range_trials;
 using test_support::RangeTrialSpec;
+using test_support::run_range_trials;
 
 // As the position filters' consistency test: the band fraction of a consistent filter is ~0.95,
 // but epochs are correlated, so it varies by a few hundredths between seed sets; 50 runs x 200

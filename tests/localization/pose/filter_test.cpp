@@ -173,12 +173,12 @@ TEST_P(PoseRules, EveryRejectedReading_CountedByReasonAndNeverFused) {
   BeaconRangeScan scan = exact_scan(map, prior.mean);  // 4 good readings
   scan.max_sensor_distance_m = 20.0;
   const Eigen::Vector3d s = kSensor;
-  scan.ranges.push_back({77, 5.0, s});                                           // unknown beacon
-  scan.ranges.push_back({kInvalidBeaconId, 5.0, s});                             // invalid ID
-  scan.ranges.push_back({10, std::numeric_limits<double>::quiet_NaN(), s});      // non-finite
-  scan.ranges.push_back({10, 0.0, s});                                           // dropout
-  scan.ranges.push_back({10, 25.0, s});                                          // beyond maxSensorDistance
-  scan.ranges.push_back({11, scan.ranges[1].range_m + 3.0, s});                  // gross error: gated
+  scan.ranges.push_back({77, 5.0, s});                                       // unknown beacon
+  scan.ranges.push_back({kInvalidBeaconId, 5.0, s});                         // invalid ID
+  scan.ranges.push_back({10, std::numeric_limits<double>::quiet_NaN(), s});  // non-finite
+  scan.ranges.push_back({10, 0.0, s});                                       // dropout
+  scan.ranges.push_back({10, 25.0, s});                                      // beyond maxSensorDistance
+  scan.ranges.push_back({11, scan.ranges[1].range_m + 3.0, s});              // gross error: gated
   auto filter = make_pose_filter(GetParam(), config, map, initial_pose(prior), 3);
   filter->step(OdometryIncrement{}, {scan});
   const FilterCounters& c = filter->counters();

@@ -97,9 +97,9 @@ TEST(InitialPose, TooFewOrUnusableReadings_ThePriorAndTheReasons) {
   const BeaconMap map = square_map();
   const Eigen::Vector4d truth(3.0, 4.0, 0.0, 0.0);
   BeaconRangeScan scan = scan_from(map, truth, Eigen::Vector3d::Zero());
-  scan.ranges[0].beacon_id = 42;                                         // unknown
-  scan.ranges[1].range_m = std::numeric_limits<double>::quiet_NaN();    // non-finite
-  scan.ranges[2].range_m = 2.0 * scan.max_sensor_distance_m;            // outside the limits
+  scan.ranges[0].beacon_id = 42;                                      // unknown
+  scan.ranges[1].range_m = std::numeric_limits<double>::quiet_NaN();  // non-finite
+  scan.ranges[2].range_m = 2.0 * scan.max_sensor_distance_m;          // outside the limits
   PoseBelief prior;
   prior.mean = Eigen::Vector4d(2.0, 3.0, 0.0, 0.0);
   prior.cov = Eigen::Vector4d(4.0, 4.0, 1.0, 0.1).asDiagonal();

@@ -88,10 +88,10 @@ TEST(OdometryModel, Jacobians_MatchCentralDifferences) {
   for (int k = 0; k < kRandomPoints; ++k) {
     const Eigen::Vector4d x = random_pose(rng, 50.0);
     const Eigen::Vector4d u = random_pose(rng, 2.0);
-    const Eigen::MatrixXd J_x = numeric_jacobian(
-        [&](const Eigen::VectorXd& v) { return Eigen::VectorXd(compose(v, u)); }, x, 1e-6, pose_diff);
-    const Eigen::MatrixXd J_u = numeric_jacobian(
-        [&](const Eigen::VectorXd& v) { return Eigen::VectorXd(compose(x, v)); }, u, 1e-6, pose_diff);
+    const Eigen::MatrixXd J_x =
+        numeric_jacobian([&](const Eigen::VectorXd& v) { return Eigen::VectorXd(compose(v, u)); }, x, 1e-6, pose_diff);
+    const Eigen::MatrixXd J_u =
+        numeric_jacobian([&](const Eigen::VectorXd& v) { return Eigen::VectorXd(compose(x, v)); }, u, 1e-6, pose_diff);
     EXPECT_LT(jacobian_mismatch(compose_jacobian_pose(x, u), J_x), kJacobianTolerance);
     EXPECT_LT(jacobian_mismatch(compose_jacobian_increment(x), J_u), kJacobianTolerance);
   }
@@ -105,8 +105,8 @@ TEST(OdometryModel, WrongTransitionJacobian_IsCaught) {
   Eigen::Matrix4d wrong = Eigen::Matrix4d::Identity();
   wrong(kPoseX, kPoseYaw) = -u(kPoseY);
   wrong(kPoseY, kPoseYaw) = u(kPoseX);
-  const Eigen::MatrixXd J_x = numeric_jacobian(
-      [&](const Eigen::VectorXd& v) { return Eigen::VectorXd(compose(v, u)); }, x, 1e-6, pose_diff);
+  const Eigen::MatrixXd J_x =
+      numeric_jacobian([&](const Eigen::VectorXd& v) { return Eigen::VectorXd(compose(v, u)); }, x, 1e-6, pose_diff);
   EXPECT_GT(jacobian_mismatch(wrong, J_x), 100.0 * kJacobianTolerance);
 }
 
@@ -119,15 +119,24 @@ struct MrptCase {
 };
 
 const MrptCase kMrptCases[] = {
-    {0.3, 0.05, 0.2, {0.01, 0.0573, 0.0175, 0.05, 0.02, 0.0035},
+    {0.3,
+     0.05,
+     0.2,
+     {0.01, 0.0573, 0.0175, 0.05, 0.02, 0.0035},
      {{0.0011925957623533019, -8.2876740642989885e-06, -2.8236468804747296e-05},
       {-8.2876740642990156e-06, 0.001220866069607556, 0.00010398556849232738},
       {-2.8236468804747296e-05, 0.00010398556849232738, 0.00035428338977829568}}},
-    {-0.12, 0.4, -1.1, {0.01, 0.0572957795, 0.0174532925, 0.05, 0.01, 0.00349065850},
+    {-0.12,
+     0.4,
+     -1.1,
+     {0.01, 0.0572957795, 0.0174532925, 0.05, 0.01, 0.00349065850},
      {{0.0066653562490132179, -0.00018652198384517873, -0.0017469193521603955},
       {-0.0001865219838451787, 0.0060093965472481576, 0.00046199423428972528},
       {-0.0017469193521603955, 0.00046199423428972528, 0.0043269251796997019}}},
-    {0.2, 0.0, 0.0, {0.0, 0.0, 0.0, 0.0, 0.001, 3.4906585e-5},
+    {0.2,
+     0.0,
+     0.0,
+     {0.0, 0.0, 0.0, 0.0, 0.001, 3.4906585e-5},
      {{9.9999999999999995e-07, 0.0, 0.0},
       {0.0, 1.0000487387870545e-06, 2.4369393527244503e-10},
       {0.0, 2.4369393527244503e-10, 1.2184696763622252e-09}}},

@@ -83,8 +83,10 @@ TEST(RangeFix, CoplanarBeacons_ThePriorPicksTheSide) {
 
 TEST(RangeFix, BadInputs_NoFixWithTheReason) {
   EXPECT_EQ(range_fix({}, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity()).problem, "no usable range");
-  EXPECT_FALSE(range_fix({{Eigen::Vector3d::Zero(), 1.0, 0.0}}, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity()).fix);
-  EXPECT_FALSE(range_fix({{Eigen::Vector3d::Zero(), 1.0, 0.1}}, Eigen::Vector3d::Zero(), -Eigen::Matrix3d::Identity()).fix);
+  EXPECT_FALSE(
+      range_fix({{Eigen::Vector3d::Zero(), 1.0, 0.0}}, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity()).fix);
+  EXPECT_FALSE(
+      range_fix({{Eigen::Vector3d::Zero(), 1.0, 0.1}}, Eigen::Vector3d::Zero(), -Eigen::Matrix3d::Identity()).fix);
 }
 
 TEST(Chi2Quantile, WilsonHilferty_MatchesTablesAtP999) {

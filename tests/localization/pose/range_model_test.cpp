@@ -26,9 +26,7 @@ constexpr int kRandomPoints = 300;
 
 Eigen::MatrixXd numeric_range_jacobian(const Eigen::Vector4d& x, const Eigen::Vector3d& s, const Eigen::Vector3d& b) {
   return numeric_jacobian(
-      [&](const Eigen::VectorXd& v) {
-        return Eigen::VectorXd::Constant(1, range_predict(Eigen::Vector4d(v), s, b));
-      },
+      [&](const Eigen::VectorXd& v) { return Eigen::VectorXd::Constant(1, range_predict(Eigen::Vector4d(v), s, b)); },
       x);
 }
 
@@ -40,8 +38,8 @@ TEST(RangeModel, Jacobian_MatchesCentralDifferences_WithRotatedSensorOffset) {
   for (int k = 0; k < kRandomPoints; ++k) {
     const Eigen::Vector4d x(20.0 * u(rng), 20.0 * u(rng), 2.0 * u(rng), kPi * u(rng));
     const Eigen::Vector3d s(u(rng), u(rng), 0.5 * u(rng));
-    const Eigen::Vector3d b = sensor_position_m(x, s) + (0.5 + 49.5 * std::abs(u(rng))) *
-                                                            Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+    const Eigen::Vector3d b = sensor_position_m(x, s) +
+                              (0.5 + 49.5 * std::abs(u(rng))) * Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
     const Eigen::MatrixXd J = range_jacobian(x, s, b);
     EXPECT_LT(jacobian_mismatch(J, numeric_range_jacobian(x, s, b)), kJacobianTolerance)
         << "x = " << x.transpose() << ", s = " << s.transpose();
@@ -103,8 +101,7 @@ TEST(BeaconMap, RejectsInvalidIdDuplicateAndNonFinitePosition_NamingThem) {
   };
   EXPECT_NE(message(kInvalidBeaconId, {0.0, 0.0, 0.0}).find("beacon_id = -1"), std::string::npos);
   EXPECT_NE(message(3, {0.0, 0.0, 0.0}).find("beacon_id = 3"), std::string::npos);
-  EXPECT_NE(message(5, {std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0}).find("must be finite"),
-            std::string::npos);
+  EXPECT_NE(message(5, {std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0}).find("must be finite"), std::string::npos);
   EXPECT_EQ(map.size(), 1U);
 }
 

@@ -62,9 +62,9 @@ struct RangeTrialSpec {
 };
 
 struct RangeTrialResult {
-  std::vector<double> nees;           // 4 dof: x, y, z, yaw (wrapped)
-  std::vector<double> sq_error_m2;    // position
-  std::vector<double> dr_sq_error_m2; // dead reckoning alone, position
+  std::vector<double> nees;            // 4 dof: x, y, z, yaw (wrapped)
+  std::vector<double> sq_error_m2;     // position
+  std::vector<double> dr_sq_error_m2;  // dead reckoning alone, position
   localization::FilterCounters counters;
   bool fixed_at_start = false;  // the epoch-0 scan gave a range fix
   double nis_sum = 0.0;         // of the fused readings (PoseFilter::last_innovations)
@@ -77,8 +77,7 @@ inline Eigen::Vector4d pose_error(const Eigen::Vector4d& estimate, const Eigen::
   return e;
 }
 
-inline RangeTrialResult run_range_trial(localization::FilterKind kind, const RangeTrialSpec& spec,
-                                        std::uint64_t seed) {
+inline RangeTrialResult run_range_trial(localization::FilterKind kind, const RangeTrialSpec& spec, std::uint64_t seed) {
   using namespace localization;
   RangeSensorSimulator sim(spec.sim, spec.beacons, 2 * seed + 1);
   std::mt19937_64 init_rng(2 * seed + 1);

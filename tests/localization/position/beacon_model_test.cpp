@@ -139,8 +139,7 @@ TEST(BeaconJacobian, HandComputedAtAPointAboveTheArray) {
 TEST(BeaconJacobian, TypicalRandomAndNearDegeneratePoints_MatchCentralDifferences) {
   for (const Eigen::Vector3d& q : test_points()) {
     const Eigen::MatrixXd numeric = numeric_jacobian(h_of, q, 1e-6, observation_diff);
-    EXPECT_LT(jacobian_mismatch(beacon_jacobian(q), numeric), kJacobianTolerance)
-        << "q = " << q.transpose();
+    EXPECT_LT(jacobian_mismatch(beacon_jacobian(q), numeric), kJacobianTolerance) << "q = " << q.transpose();
   }
 }
 
@@ -159,15 +158,11 @@ TEST(BeaconJacobian, DeliberatelyWrongJacobian_IsCaught) {
 TEST(BeaconInverse, Jacobian_MatchesCentralDifferencesAndInvertsJzq) {
   for (const Eigen::Vector3d& q : test_points()) {
     const Eigen::Vector3d z = beacon_predict(q);
-    const auto g = [](const Eigen::VectorXd& zz) -> Eigen::VectorXd {
-      return beacon_to_position(zz.head<3>());
-    };
+    const auto g = [](const Eigen::VectorXd& zz) -> Eigen::VectorXd { return beacon_to_position(zz.head<3>()); };
     const Eigen::MatrixXd numeric = numeric_jacobian(g, z, 1e-7);
     const Eigen::Matrix3d J_q_z = beacon_to_position_jacobian(z);
     EXPECT_LT(jacobian_mismatch(J_q_z, numeric), kJacobianTolerance) << q.transpose();
-    EXPECT_LT((J_q_z * beacon_jacobian(q) - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(),
-              1e-9)
-        << q.transpose();
+    EXPECT_LT((J_q_z * beacon_jacobian(q) - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-9) << q.transpose();
   }
 }
 

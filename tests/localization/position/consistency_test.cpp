@@ -56,8 +56,7 @@ TEST_P(Consistency, NominalNoise_AverageNeesInside95BandOn90PercentOfEpochs) {
   const auto trials = run_trials(GetParam(), consistency_spec(), kNumTrials);
   // THEN: the run-averaged NEES is inside the chi2(3 N)/N 95% band on >= 90% of epochs.
   const double fraction = fraction_of_epochs_in_nees_band(trials);
-  std::cout << to_string(GetParam()) << ": fraction of epochs in NEES band = " << fraction
-            << "\n";
+  std::cout << to_string(GetParam()) << ": fraction of epochs in NEES band = " << fraction << "\n";
   EXPECT_GE(fraction, kMinFractionInBand);
 }
 
@@ -71,8 +70,7 @@ TEST_P(Consistency, OverconfidentNoiseModel_FailsTheSameCheck) {
   spec.filter.gate_enabled = false;  // test the consistency check, not the gate
   const auto trials = run_trials(GetParam(), spec, kNumTrials);
   const double fraction = fraction_of_epochs_in_nees_band(trials);
-  std::cout << to_string(GetParam()) << ": overconfident, fraction in band = " << fraction
-            << "\n";
+  std::cout << to_string(GetParam()) << ": overconfident, fraction in band = " << fraction << "\n";
   EXPECT_LT(fraction, kMinFractionInBand);
 }
 
@@ -85,8 +83,7 @@ TEST_P(Consistency, PessimisticNoiseModel_FailsTheSameCheck) {
   spec.filter.noise.dr_sigma_fraction *= kOverconfidenceFactor;
   const auto trials = run_trials(GetParam(), spec, kNumTrials);
   const double fraction = fraction_of_epochs_in_nees_band(trials);
-  std::cout << to_string(GetParam()) << ": pessimistic, fraction in band = " << fraction
-            << "\n";
+  std::cout << to_string(GetParam()) << ": pessimistic, fraction in band = " << fraction << "\n";
   EXPECT_LT(fraction, kMinFractionInBand);
 }
 
@@ -118,8 +115,7 @@ TEST(ZeroBeaconNoise, PfNeesAsTheEkfs) {
   EXPECT_GT(pf, ekf / 1.5);
 }
 
-INSTANTIATE_TEST_SUITE_P(BothFilters, Consistency,
-                         ::testing::Values(FilterKind::kEkf, FilterKind::kParticle),
+INSTANTIATE_TEST_SUITE_P(BothFilters, Consistency, ::testing::Values(FilterKind::kEkf, FilterKind::kParticle),
                          [](const auto& info) { return to_string(info.param); });
 
 TEST(NeesBand, WilsonHilferty_MatchesChiSquareTable) {
@@ -175,8 +171,8 @@ TEST(Accuracy, BothFilters_BeatDeadReckoningAndBeaconOnly) {
     const double filter_m = rmse_m(trials, kSettleEpochs);
     const double dr_m = dead_reckoning_rmse_m(trials);
     const double fix_m = beacon_only_rmse_m(trials);
-    std::cout << to_string(kind) << ": RMSE filter = " << filter_m << " m, dead reckoning = "
-              << dr_m << " m, beacon only = " << fix_m << " m\n";
+    std::cout << to_string(kind) << ": RMSE filter = " << filter_m << " m, dead reckoning = " << dr_m
+              << " m, beacon only = " << fix_m << " m\n";
     EXPECT_LT(filter_m, dr_m) << to_string(kind);
     EXPECT_LT(filter_m, fix_m) << to_string(kind);
   }
@@ -188,8 +184,7 @@ TEST(Accuracy, BeaconOnlyFix_IsAbout10cmPerAxisAt1km) {
   constexpr double kExpected3dRmse_m = 0.1 * 1.7320508;
   constexpr double kRelativeTolerance = 0.05;
   const auto trials = run_trials(FilterKind::kEkf, TrialSpec{}, kNumTrials);
-  EXPECT_NEAR(beacon_only_rmse_m(trials), kExpected3dRmse_m,
-              kRelativeTolerance * kExpected3dRmse_m);
+  EXPECT_NEAR(beacon_only_rmse_m(trials), kExpected3dRmse_m, kRelativeTolerance * kExpected3dRmse_m);
 }
 
 }  // namespace

@@ -29,8 +29,7 @@ TEST_P(Degradation, FivePercentGrossOutliers_RmseWithin1p5xOfClean) {
   const auto dirty_trials = run_trials(GetParam(), dirty, kNumTrials);
   const double clean_m = rmse_m(clean_trials, kSettleEpochs);
   const double dirty_m = rmse_m(dirty_trials, kSettleEpochs);
-  std::cout << to_string(GetParam()) << ": RMSE clean " << clean_m << " m, 5% outliers "
-            << dirty_m << " m\n";
+  std::cout << to_string(GetParam()) << ": RMSE clean " << clean_m << " m, 5% outliers " << dirty_m << " m\n";
   EXPECT_LE(dirty_m, kMaxRatio * clean_m);
   int outliers = 0;
   std::int64_t gated = 0;
@@ -55,8 +54,8 @@ TEST_P(Degradation, GateOff_OutliersDoDamage) {
   open.filter.gate_enabled = false;
   const double gated_m = rmse_m(run_trials(GetParam(), gated, kNumTrials), kSettleEpochs);
   const double open_m = rmse_m(run_trials(GetParam(), open, kNumTrials), kSettleEpochs);
-  std::cout << to_string(GetParam()) << ": RMSE with outliers, gate on " << gated_m
-            << " m, gate off " << open_m << " m\n";
+  std::cout << to_string(GetParam()) << ": RMSE with outliers, gate on " << gated_m << " m, gate off " << open_m
+            << " m\n";
   EXPECT_GT(open_m, kMinDamageRatio * gated_m);
 }
 
@@ -110,8 +109,7 @@ TEST_P(Degradation, LostTrack_ResetsFromBeaconFixAndReconverges) {
   EXPECT_LT(r.error_m.back().norm(), 0.5);
 }
 
-INSTANTIATE_TEST_SUITE_P(BothFilters, Degradation,
-                         ::testing::Values(FilterKind::kEkf, FilterKind::kParticle),
+INSTANTIATE_TEST_SUITE_P(BothFilters, Degradation, ::testing::Values(FilterKind::kEkf, FilterKind::kParticle),
                          [](const auto& info) { return to_string(info.param); });
 
 }  // namespace

@@ -59,8 +59,7 @@ TEST_P(Determinism, SameSeedsInTwoThreads_BitwiseEqualToSequential) {
   });
   auto worker = [&](int first) {
     for (int i = first; i < num_trials; i += 2) {
-      concurrent[static_cast<std::size_t>(i)] =
-          run_trial(GetParam(), spec, static_cast<std::uint64_t>(100 + i));
+      concurrent[static_cast<std::size_t>(i)] = run_trial(GetParam(), spec, static_cast<std::uint64_t>(100 + i));
     }
   };
   std::thread a(worker, 0);
@@ -71,16 +70,14 @@ TEST_P(Determinism, SameSeedsInTwoThreads_BitwiseEqualToSequential) {
   noise.join();
 
   for (int i = 0; i < num_trials; ++i) {
-    EXPECT_TRUE(bitwise_equal(sequential[static_cast<std::size_t>(i)],
-                              concurrent[static_cast<std::size_t>(i)]))
+    EXPECT_TRUE(bitwise_equal(sequential[static_cast<std::size_t>(i)], concurrent[static_cast<std::size_t>(i)]))
         << "trial " << i;
   }
   // Different seeds give different trials (the comparison above is not vacuous).
   EXPECT_FALSE(bitwise_equal(sequential[0], sequential[1]));
 }
 
-INSTANTIATE_TEST_SUITE_P(BothFilters, Determinism,
-                         ::testing::Values(FilterKind::kEkf, FilterKind::kParticle),
+INSTANTIATE_TEST_SUITE_P(BothFilters, Determinism, ::testing::Values(FilterKind::kEkf, FilterKind::kParticle),
                          [](const auto& info) { return to_string(info.param); });
 
 TEST(Determinism, ParticleFilter_DiffersWithFilterSeedOnly) {

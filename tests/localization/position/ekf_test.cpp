@@ -32,11 +32,10 @@ Belief reference_update(const FilterConfig& config, const Belief& prior, const E
   const Eigen::Vector3d x = prior.mean_m + d;
   const Eigen::Matrix3d P = prior.cov_m2 + s * s * Eigen::Matrix3d::Identity();
   const Eigen::Matrix3d H = beacon_jacobian(x);
-  const Eigen::Matrix3d R =
-      Eigen::Vector3d(config.noise.sigma_range_m * config.noise.sigma_range_m,
-                      config.noise.sigma_angle_rad * config.noise.sigma_angle_rad,
-                      config.noise.sigma_angle_rad * config.noise.sigma_angle_rad)
-          .asDiagonal();
+  const Eigen::Matrix3d R = Eigen::Vector3d(config.noise.sigma_range_m * config.noise.sigma_range_m,
+                                            config.noise.sigma_angle_rad * config.noise.sigma_angle_rad,
+                                            config.noise.sigma_angle_rad * config.noise.sigma_angle_rad)
+                                .asDiagonal();
   const Eigen::Matrix3d S = H * P * H.transpose() + R;
   const Eigen::Matrix3d K = P * H.transpose() * S.inverse();
   Eigen::Vector3d y = to_vector(z) - beacon_predict(x);
@@ -71,10 +70,7 @@ TEST(Ekf, PredictionOnlyEpoch_MovesMeanAndAddsProcessNoise) {
   ekf.step(d, std::nullopt);
   const double s = displacement_sigma_m(config, d.norm());
   EXPECT_LT((ekf.belief().mean_m - (prior.mean_m + d)).norm(), 1e-12);
-  EXPECT_LT((ekf.belief().cov_m2 - (prior.cov_m2 + s * s * Eigen::Matrix3d::Identity()))
-                .cwiseAbs()
-                .maxCoeff(),
-            1e-15);
+  EXPECT_LT((ekf.belief().cov_m2 - (prior.cov_m2 + s * s * Eigen::Matrix3d::Identity())).cwiseAbs().maxCoeff(), 1e-15);
   EXPECT_EQ(ekf.belief().epochs_since_beacon, 1);
   EXPECT_EQ(ekf.counters().beacons_received, 0);
 }
@@ -102,10 +98,7 @@ TEST(Ekf, NonFiniteDisplacement_PredictsInPlaceWithMissingSigma) {
   ekf.step(Eigen::Vector3d(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0), std::nullopt);
   const double s = config.missing_displacement_sigma_m;
   EXPECT_EQ(ekf.belief().mean_m, prior.mean_m);
-  EXPECT_LT((ekf.belief().cov_m2 - (prior.cov_m2 + s * s * Eigen::Matrix3d::Identity()))
-                .cwiseAbs()
-                .maxCoeff(),
-            1e-12);
+  EXPECT_LT((ekf.belief().cov_m2 - (prior.cov_m2 + s * s * Eigen::Matrix3d::Identity())).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_EQ(ekf.counters().rejected_non_finite_displacement, 1);
 }
 

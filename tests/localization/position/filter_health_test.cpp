@@ -150,8 +150,7 @@ test_support::TrialSpec trial_with_replaced_beacons(bool withhold, double max_be
   spec.filter.max_beacon_range_m = max_beacon_range_m;
   const double above_limit_m = std::nextafter(FilterConfig{}.max_beacon_range_m, kInf);
   for (int b = 0; b < 4; ++b) {
-    const BeaconMeasurement z{b % 2 == 0 ? 1e300 : above_limit_m,
-                              std::atan2(spec.start_m.y(), spec.start_m.x()), 0.02};
+    const BeaconMeasurement z{b % 2 == 0 ? 1e300 : above_limit_m, std::atan2(spec.start_m.y(), spec.start_m.x()), 0.02};
     for (int k = kBlockFirstEpoch[b]; k < kBlockFirstEpoch[b] + kBlockLength[b]; ++k) {
       spec.replaced_beacons[k] = withhold ? std::nullopt : std::optional<BeaconMeasurement>(z);
     }
@@ -200,8 +199,7 @@ TEST_P(FilterHealth, FiftyImplausibleBeacons_WithoutTheScreen_BreakTheFilter) {
   // The control of the test above: with the limit opened up, the same beacons are gated until
   // the reset rule takes a fix at 1e300 m, which overflows.
   const test_support::TrialResult open = test_support::run_trial(
-      GetParam(), trial_with_replaced_beacons(false, std::numeric_limits<double>::max()),
-      kTrialSeed);
+      GetParam(), trial_with_replaced_beacons(false, std::numeric_limits<double>::max()), kTrialSeed);
   EXPECT_EQ(open.counters.rejected_out_of_range_beacon, 0);
   EXPECT_GE(open.counters.resets, 1);
   EXPECT_GE(open.counters.non_finite_state, 1);
@@ -235,11 +233,8 @@ TEST_P(FilterHealth, RangeJustBelowTheLimit_IsScreenedByTheGateOnly) {
   EXPECT_FALSE(health_problem(*filter).has_value()) << *health_problem(*filter);
 }
 
-INSTANTIATE_TEST_SUITE_P(BothFilters, FilterHealth,
-                         ::testing::Values(FilterKind::kEkf, FilterKind::kParticle),
-                         [](const ::testing::TestParamInfo<FilterKind>& info) {
-                           return to_string(info.param);
-                         });
+INSTANTIATE_TEST_SUITE_P(BothFilters, FilterHealth, ::testing::Values(FilterKind::kEkf, FilterKind::kParticle),
+                         [](const ::testing::TestParamInfo<FilterKind>& info) { return to_string(info.param); });
 
 }  // namespace
 }  // namespace losmimo::localization

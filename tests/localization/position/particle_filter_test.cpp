@@ -27,8 +27,7 @@ TEST(ParticleFilter, OneEpochWithManyParticles_MatchesEkfPosterior) {
   config.num_particles = kParticles;
   const Belief prior = prior_at({1000.0, 10.0, 20.0}, 0.15);
   const Eigen::Vector3d d(0.5, 0.5, 0.0);
-  const BeaconMeasurement z =
-      to_measurement(beacon_predict(prior.mean_m + d + Eigen::Vector3d(0.05, -0.1, 0.08)));
+  const BeaconMeasurement z = to_measurement(beacon_predict(prior.mean_m + d + Eigen::Vector3d(0.05, -0.1, 0.08)));
   EkfPositionFilter ekf(config, prior);
   ParticlePositionFilter pf(config, prior, 21);
   ekf.step(d, z);
@@ -76,8 +75,8 @@ TEST(ParticleFilter, EssThreshold_ControlsResampling) {
 
 TEST(ParticleFilter, EveryResamplingMethod_ConvergesOnTheTruth) {
   const Eigen::Vector3d truth_m(1000.0, 3.0, -4.0);
-  for (const auto method : {ResamplingMethod::kMultinomial, ResamplingMethod::kResidual,
-                            ResamplingMethod::kStratified, ResamplingMethod::kSystematic}) {
+  for (const auto method : {ResamplingMethod::kMultinomial, ResamplingMethod::kResidual, ResamplingMethod::kStratified,
+                            ResamplingMethod::kSystematic}) {
     FilterConfig config;
     config.resampling = method;
     config.ess_threshold = 0.9;

@@ -83,14 +83,12 @@ class ScreenBeacon : public ::testing::Test {
   Eigen::Matrix3d cov_m2 = 0.01 * Eigen::Matrix3d::Identity();
 
   BeaconVerdict screen(const Eigen::Vector3d& true_q_m) {
-    return screen_beacon(config, to_measurement(beacon_predict(true_q_m)), mean_m, cov_m2,
-                         consecutive, counters);
+    return screen_beacon(config, to_measurement(beacon_predict(true_q_m)), mean_m, cov_m2, consecutive, counters);
   }
 };
 
 TEST_F(ScreenBeacon, NoBeacon_CountsNothing) {
-  EXPECT_EQ(screen_beacon(config, std::nullopt, mean_m, cov_m2, consecutive, counters),
-            BeaconVerdict::kNone);
+  EXPECT_EQ(screen_beacon(config, std::nullopt, mean_m, cov_m2, consecutive, counters), BeaconVerdict::kNone);
   EXPECT_EQ(counters.beacons_received, 0);
 }
 
@@ -98,13 +96,11 @@ TEST_F(ScreenBeacon, NonFiniteOrNonPositiveRange_RejectedAndCounted) {
   for (const double bad : {kNaN, kInf, -kInf}) {
     BeaconMeasurement z = to_measurement(beacon_predict(mean_m));
     z.elevation_rad = bad;
-    EXPECT_EQ(screen_beacon(config, z, mean_m, cov_m2, consecutive, counters),
-              BeaconVerdict::kNonFinite);
+    EXPECT_EQ(screen_beacon(config, z, mean_m, cov_m2, consecutive, counters), BeaconVerdict::kNonFinite);
   }
   BeaconMeasurement z = to_measurement(beacon_predict(mean_m));
   z.range_m = -1.0;
-  EXPECT_EQ(screen_beacon(config, z, mean_m, cov_m2, consecutive, counters),
-            BeaconVerdict::kNonFinite);
+  EXPECT_EQ(screen_beacon(config, z, mean_m, cov_m2, consecutive, counters), BeaconVerdict::kNonFinite);
   EXPECT_EQ(counters.rejected_non_finite_beacon, 4);
   EXPECT_EQ(counters.beacons_received, 4);
   EXPECT_EQ(counters.beacons_fused, 0);
@@ -150,8 +146,7 @@ TEST_F(ScreenBeacon, RangeAboveTheLimit_RejectedAsOutOfRange_NeverTowardsAReset)
     z.range_m = range_m;
     // WHEN / THEN: rejected before the gate, however many arrive.
     for (int i = 0; i < 5; ++i) {
-      EXPECT_EQ(screen_beacon(config, z, mean_m, cov_m2, consecutive, counters),
-                BeaconVerdict::kOutOfRange)
+      EXPECT_EQ(screen_beacon(config, z, mean_m, cov_m2, consecutive, counters), BeaconVerdict::kOutOfRange)
           << "range_m = " << range_m;
     }
   }
@@ -171,15 +166,13 @@ TEST_F(ScreenBeacon, RangeAtOrJustBelowTheLimit_IsLeftToTheGate) {
   // Far from the belief at 1 km: gated, and counted towards a reset, as any other beacon.
   BeaconMeasurement z = to_measurement(beacon_predict(mean_m));
   z.range_m = std::nextafter(limit_m, 0.0);
-  EXPECT_EQ(screen_beacon(config, z, mean_m, cov_m2, consecutive, counters),
-            BeaconVerdict::kGated);
+  EXPECT_EQ(screen_beacon(config, z, mean_m, cov_m2, consecutive, counters), BeaconVerdict::kGated);
   EXPECT_EQ(consecutive, 1);
   // Where the belief agrees: fused, up to the limit itself.
   for (const double range_m : {std::nextafter(limit_m, 0.0), limit_m}) {
     mean_m = Eigen::Vector3d(range_m, 0.0, 0.0);
     z = to_measurement(beacon_predict(mean_m));
-    EXPECT_EQ(screen_beacon(config, z, mean_m, cov_m2, consecutive, counters),
-              BeaconVerdict::kFuse)
+    EXPECT_EQ(screen_beacon(config, z, mean_m, cov_m2, consecutive, counters), BeaconVerdict::kFuse)
         << "range_m = " << range_m;
   }
   EXPECT_EQ(counters.rejected_out_of_range_beacon, 0);
@@ -191,13 +184,12 @@ TEST_F(ScreenBeacon, ElevationOutsideHalfPiAfterWrapping_RejectedAsOutOfRange) {
   constexpr double kHalfPi_rad = 1.57079632679489661923;
   constexpr double kTwoPi_rad = 6.28318530717958647692;
   const BeaconMeasurement nominal = to_measurement(beacon_predict(mean_m));
-  for (const double el_rad : {std::nextafter(kHalfPi_rad, kInf), -std::nextafter(kHalfPi_rad, kInf),
-                              3.0, -3.0, kTwoPi_rad + 2.0}) {
+  for (const double el_rad :
+       {std::nextafter(kHalfPi_rad, kInf), -std::nextafter(kHalfPi_rad, kInf), 3.0, -3.0, kTwoPi_rad + 2.0}) {
     BeaconMeasurement z = nominal;
     z.elevation_rad = el_rad;
     EXPECT_FALSE(is_plausible(config, z)) << "elevation_rad = " << el_rad;
-    EXPECT_EQ(screen_beacon(config, z, mean_m, cov_m2, consecutive, counters),
-              BeaconVerdict::kOutOfRange)
+    EXPECT_EQ(screen_beacon(config, z, mean_m, cov_m2, consecutive, counters), BeaconVerdict::kOutOfRange)
         << "elevation_rad = " << el_rad;
   }
   EXPECT_EQ(counters.rejected_out_of_range_beacon, 5);
@@ -210,8 +202,7 @@ TEST_F(ScreenBeacon, ElevationOutsideHalfPiAfterWrapping_RejectedAsOutOfRange) {
   BeaconMeasurement turned = nominal;
   turned.elevation_rad += kTwoPi_rad;
   turned.azimuth_rad -= 3.0 * kTwoPi_rad;
-  EXPECT_EQ(screen_beacon(config, turned, mean_m, cov_m2, consecutive, counters),
-            BeaconVerdict::kFuse);
+  EXPECT_EQ(screen_beacon(config, turned, mean_m, cov_m2, consecutive, counters), BeaconVerdict::kFuse);
   EXPECT_EQ(counters.rejected_out_of_range_beacon, 5);
 }
 
@@ -235,28 +226,20 @@ TEST(FilterConfigValidation, BadFields_ThrowNamingTheField) {
     mutate(c);
     return [c] { validate(c); };
   };
-  expect_invalid(with([](FilterConfig& c) { c.noise.sigma_range_m = -0.1; }),
-                 "noise.sigma_range_m = -0.1");
-  expect_invalid(with([](FilterConfig& c) { c.noise.sigma_angle_rad = kNaN; }),
-                 "noise.sigma_angle_rad");
-  expect_invalid(with([](FilterConfig& c) { c.noise.dr_sigma_fraction = kInf; }),
-                 "noise.dr_sigma_fraction");
+  expect_invalid(with([](FilterConfig& c) { c.noise.sigma_range_m = -0.1; }), "noise.sigma_range_m = -0.1");
+  expect_invalid(with([](FilterConfig& c) { c.noise.sigma_angle_rad = kNaN; }), "noise.sigma_angle_rad");
+  expect_invalid(with([](FilterConfig& c) { c.noise.dr_sigma_fraction = kInf; }), "noise.dr_sigma_fraction");
   expect_invalid(with([](FilterConfig& c) { c.num_particles = 0; }), "num_particles = 0");
   expect_invalid(with([](FilterConfig& c) { c.ess_threshold = 0.0; }), "ess_threshold");
   expect_invalid(with([](FilterConfig& c) { c.gate_chi2 = -1.0; }), "gate_chi2");
   expect_invalid(with([](FilterConfig& c) { c.max_beacon_range_m = 0.0; }),
                  "filter.max_beacon_range_m = 0: must be > 0");
-  expect_invalid(with([](FilterConfig& c) { c.max_beacon_range_m = -5.0; }),
-                 "max_beacon_range_m = -5");
-  expect_invalid(with([](FilterConfig& c) { c.max_beacon_range_m = kInf; }),
-                 "max_beacon_range_m = inf");
-  expect_invalid(with([](FilterConfig& c) { c.max_beacon_range_m = kNaN; }),
-                 "max_beacon_range_m = nan");
-  expect_invalid(with([](FilterConfig& c) { c.degraded_after_epochs = 0; }),
-                 "degraded_after_epochs");
+  expect_invalid(with([](FilterConfig& c) { c.max_beacon_range_m = -5.0; }), "max_beacon_range_m = -5");
+  expect_invalid(with([](FilterConfig& c) { c.max_beacon_range_m = kInf; }), "max_beacon_range_m = inf");
+  expect_invalid(with([](FilterConfig& c) { c.max_beacon_range_m = kNaN; }), "max_beacon_range_m = nan");
+  expect_invalid(with([](FilterConfig& c) { c.degraded_after_epochs = 0; }), "degraded_after_epochs");
   expect_invalid(with([](FilterConfig& c) { c.min_variance_m2 = 0.0; }), "min_variance_m2");
-  expect_invalid(with([](FilterConfig& c) { c.regularization_bandwidth = 1.0; }),
-                 "regularization_bandwidth");
+  expect_invalid(with([](FilterConfig& c) { c.regularization_bandwidth = 1.0; }), "regularization_bandwidth");
   EXPECT_NO_THROW(validate(FilterConfig{}));
 }
 
@@ -286,8 +269,7 @@ TEST(SimulatorConfigValidation, BadFields_ThrowNamingTheField) {
   };
   expect_invalid(with([](SimulatorConfig& c) { c.sigma_range_m = -1.0; }), "sigma_range_m = -1");
   expect_invalid(with([](SimulatorConfig& c) { c.sigma_angle_rad = kNaN; }), "sigma_angle_rad");
-  expect_invalid(with([](SimulatorConfig& c) { c.beacon_period_epochs = 0; }),
-                 "beacon_period_epochs = 0");
+  expect_invalid(with([](SimulatorConfig& c) { c.beacon_period_epochs = 0; }), "beacon_period_epochs = 0");
   expect_invalid(with([](SimulatorConfig& c) { c.outlier_fraction = 1.5; }), "outlier_fraction");
   expect_invalid(with([](SimulatorConfig& c) { c.outages = {{3, -2}}; }), "outages[0].num_epochs");
   expect_invalid(with([](SimulatorConfig& c) { c.dr_sigma_floor_m = kInf; }), "dr_sigma_floor_m");

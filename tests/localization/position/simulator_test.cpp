@@ -93,8 +93,7 @@ TEST(SensorSimulator, Outliers_AppearAtTheConfiguredRateAndAreGross) {
     const auto z = sim.measure_beacon(q, k);
     const Eigen::Vector3d y = beacon_innovation(to_vector(*z), beacon_predict(q));
     // 10 nominal sigmas on any component: a nominal beacon essentially never gets there.
-    if (std::abs(y(0)) > 10.0 * config.sigma_range_m ||
-        std::abs(y(1)) > 10.0 * config.sigma_angle_rad ||
+    if (std::abs(y(0)) > 10.0 * config.sigma_range_m || std::abs(y(1)) > 10.0 * config.sigma_angle_rad ||
         std::abs(y(2)) > 10.0 * config.sigma_angle_rad) {
       ++gross;
     }

@@ -50,7 +50,7 @@ struct TrialResult {
   std::vector<Eigen::Matrix3d> cov_m2;
   std::vector<double> nees;
   std::vector<bool> degraded;
-  std::vector<Eigen::Vector3d> dr_error_m;              // dead reckoning alone
+  std::vector<Eigen::Vector3d> dr_error_m;                  // dead reckoning alone
   std::vector<std::optional<Eigen::Vector3d>> fix_error_m;  // beacon-only fix, if a beacon
   localization::FilterCounters counters;
   int num_outliers = 0;
@@ -111,8 +111,8 @@ inline TrialResult run_trial(localization::FilterKind kind, const TrialSpec& spe
   return out;
 }
 
-inline std::vector<TrialResult> run_trials(localization::FilterKind kind, const TrialSpec& spec,
-                                           int num_trials, std::uint64_t first_seed = 1) {
+inline std::vector<TrialResult> run_trials(localization::FilterKind kind, const TrialSpec& spec, int num_trials,
+                                           std::uint64_t first_seed = 1) {
   std::vector<TrialResult> results;
   results.reserve(static_cast<std::size_t>(num_trials));
   for (int i = 0; i < num_trials; ++i) {

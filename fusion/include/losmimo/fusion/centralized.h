@@ -44,20 +44,20 @@
 namespace losmimo::fusion {
 
 struct CentralizedConfig {
-  double target_icn = 0.95;       // alpha, in (0, 1)
-  double mu_initial = 1e-4;       // first penalty weight from the start positions [m^2]
-  double mu_growth = 4.0;         // continuation factor (> 1)
-  double mu_max = 1e2;            // largest penalty weight tried [m^2]
-  int reduce_steps = 8;           // log-bisection steps on mu once feasible
-  int max_lbfgs_iterations = 400; // per J_mu minimisation
+  double target_icn = 0.95;        // alpha, in (0, 1)
+  double mu_initial = 1e-4;        // first penalty weight from the start positions [m^2]
+  double mu_growth = 4.0;          // continuation factor (> 1)
+  double mu_max = 1e2;             // largest penalty weight tried [m^2]
+  int reduce_steps = 8;            // log-bisection steps on mu once feasible
+  int max_lbfgs_iterations = 400;  // per J_mu minimisation
   bool start_from_lattice_ura = true;
   bool start_from_rigid_ura = true;
   bool start_from_gd = true;
-  int gd_max_iterations = 3000;   // GD iterations for that candidate
-  bool barrier_polish = true;     // the log-barrier stage above
-  double barrier_t_initial = 1.0; // [m^2]
-  double barrier_t_final = 1e-4;  // [m^2]
-  double barrier_t_factor = 0.1;  // in (0, 1)
+  int gd_max_iterations = 3000;    // GD iterations for that candidate
+  bool barrier_polish = true;      // the log-barrier stage above
+  double barrier_t_initial = 1.0;  // [m^2]
+  double barrier_t_final = 1e-4;   // [m^2]
+  double barrier_t_factor = 0.1;   // in (0, 1)
 };
 
 // Throws std::invalid_argument naming the first bad field and its value.
@@ -65,23 +65,22 @@ void validate(const CentralizedConfig& config);
 
 // Travel from one placement to another (3 x Nr each).
 struct TravelStats {
-  double total_m = 0.0;          // sum_n |to_n - from_n|
-  double mean_m = 0.0;           // per UAV
+  double total_m = 0.0;  // sum_n |to_n - from_n|
+  double mean_m = 0.0;   // per UAV
   double max_m = 0.0;
-  double total_squared_m2 = 0.0; // sum_n |to_n - from_n|^2 (the eq. 4 objective)
+  double total_squared_m2 = 0.0;  // sum_n |to_n - from_n|^2 (the eq. 4 objective)
   double mean_squared_m2 = 0.0;
 };
 TravelStats travel_stats(const Eigen::Matrix3Xd& from_m, const Eigen::Matrix3Xd& to_m);
 
 // J_mu(q) as above; writes grad_q J (3 x Nr) when gradient != nullptr.
-double penalized_travel_cost(const placement::ChannelModel& model, const Eigen::Matrix3Xd& start_m,
-                             double mu, const Eigen::Matrix3Xd& q_m, Eigen::Matrix3Xd* gradient);
+double penalized_travel_cost(const placement::ChannelModel& model, const Eigen::Matrix3Xd& start_m, double mu,
+                             const Eigen::Matrix3Xd& q_m, Eigen::Matrix3Xd* gradient);
 
 // B_t(q) as above; returns +infinity when g(q) <= 0 (gradient then untouched). Writes
 // grad_q B (3 x Nr) when gradient != nullptr. alpha in (0, 1), t > 0.
-double barrier_travel_cost(const placement::ChannelModel& model, const Eigen::Matrix3Xd& start_m,
-                           double alpha, double t, const Eigen::Matrix3Xd& q_m,
-                           Eigen::Matrix3Xd* gradient);
+double barrier_travel_cost(const placement::ChannelModel& model, const Eigen::Matrix3Xd& start_m, double alpha,
+                           double t, const Eigen::Matrix3Xd& q_m, Eigen::Matrix3Xd* gradient);
 
 enum class CentralizedStatus { kFeasible, kInfeasible };
 enum class CentralizedStart { kStartPositions, kLatticeUra, kRigidUra, kGd, kNone };
@@ -91,25 +90,25 @@ std::string to_string(CentralizedStart start);
 struct CentralizedResult {
   CentralizedStatus status = CentralizedStatus::kInfeasible;
   CentralizedStart best_start = CentralizedStart::kNone;  // the start the kept solution came from
-  bool best_is_raw_ura = false;   // the kept solution is a URA placement itself, not optimised
-  Eigen::Matrix3Xd positions_m;   // the solution (the start positions when infeasible)
-  double icn = 0.0;               // of positions_m, by SVD of H
+  bool best_is_raw_ura = false;                           // the kept solution is a URA placement itself, not optimised
+  Eigen::Matrix3Xd positions_m;                           // the solution (the start positions when infeasible)
+  double icn = 0.0;                                       // of positions_m, by SVD of H
   TravelStats travel;
-  double mu = 0.0;                // penalty weight of the kept solution (0 for a raw URA)
-  bool polished = false;          // the kept solution went through the barrier stage
-  int num_solves = 0;             // L-BFGS minimisations run
+  double mu = 0.0;        // penalty weight of the kept solution (0 for a raw URA)
+  bool polished = false;  // the kept solution went through the barrier stage
+  int num_solves = 0;     // L-BFGS minimisations run
 
   // Baselines with the same perfect knowledge (empty when num_uavs != Nt).
   Eigen::Matrix3Xd lattice_ura_m;
   double lattice_ura_icn = 0.0;
   TravelStats lattice_ura_travel;
-  Eigen::Matrix3Xd rigid_ura_m;   // slots assigned by least total squared distance
+  Eigen::Matrix3Xd rigid_ura_m;  // slots assigned by least total squared distance
   double rigid_ura_icn = 0.0;
   TravelStats rigid_ura_travel;
 };
 
 // Throws std::invalid_argument for an invalid scenario/config or start_m not 3 x num_uavs.
-CentralizedResult solve_centralized(const placement::Scenario& scenario,
-                                    const Eigen::Matrix3Xd& start_m, const CentralizedConfig& config);
+CentralizedResult solve_centralized(const placement::Scenario& scenario, const Eigen::Matrix3Xd& start_m,
+                                    const CentralizedConfig& config);
 
 }  // namespace losmimo::fusion

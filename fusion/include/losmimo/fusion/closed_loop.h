@@ -126,8 +126,7 @@ struct UavFault {
   int from_iteration = 1;  // >= 1
   int num_iterations = 0;  // >= 0; 0: until the end
   bool active(int iteration) const {
-    return iteration >= from_iteration &&
-           (num_iterations == 0 || iteration < from_iteration + num_iterations);
+    return iteration >= from_iteration && (num_iterations == 0 || iteration < from_iteration + num_iterations);
   }
 };
 
@@ -137,10 +136,10 @@ struct ClosedLoopConfig {
   localization::SimulatorConfig simulator;  // the truth; sigma_act_m unused (the Swarm's)
   bool refine = false;                      // Ceres sliding-window refinement (refinement.h)
   RefinementConfig refinement;
-  bool fallback_to_bf = true;               // degraded belief -> BF for that iteration
+  bool fallback_to_bf = true;  // degraded belief -> BF for that iteration
   GdBeliefMode gd_mode = GdBeliefMode::kMean;
-  std::vector<UavBeaconOutage> outages;     // per UAV, on top of simulator.outages
-  std::vector<UavFault> faults;             // injected faults (tests, what-if runs); none
+  std::vector<UavBeaconOutage> outages;  // per UAV, on top of simulator.outages
+  std::vector<UavFault> faults;          // injected faults (tests, what-if runs); none
   // The master declares a UAV unresponsive after this many iterations in a row without a
   // measurement or a motion from it, in [1, 1000].
   int unresponsive_after_iterations = 3;
@@ -150,7 +149,8 @@ struct ClosedLoopConfig {
 // filter_range, simulator_range and refinement_range.
 namespace closed_loop_range {
 inline constexpr common::Range unresponsive_after_iterations = common::Range::closed(1, 1000);
-inline constexpr common::Range uav = common::Range::closed(0, 2147483647);  // an index; < the swarm's size: require_uavs_in_swarm
+inline constexpr common::Range uav =
+    common::Range::closed(0, 2147483647);  // an index; < the swarm's size: require_uavs_in_swarm
 inline constexpr common::Range fault_from_iteration = common::Range::closed(1, 1e7);
 inline constexpr common::Range fault_num_iterations = common::Range::closed(0, 1e7);  // 0: to the end
 }  // namespace closed_loop_range
@@ -174,22 +174,22 @@ enum class UavMode : char { kGd = 'G', kBf = 'B' };
 // Localization and mode statistics of one run. Errors are the belief means placement used
 // (refined when refinement is on) against the true positions, over every epoch and UAV.
 struct ClosedLoopStats {
-  int num_epochs = 0;                  // per UAV, epoch 0 included
-  double rmse_m = 0.0;                 // 3-D
-  double lateral_rmse_m = 0.0;         // y and z (across the line of sight)
-  double average_nees = 0.0;           // e^T P^-1 e, 3 dof (3 when consistent)
-  double filter_rmse_m = 0.0;          // the same for the filter's own beliefs
+  int num_epochs = 0;           // per UAV, epoch 0 included
+  double rmse_m = 0.0;          // 3-D
+  double lateral_rmse_m = 0.0;  // y and z (across the line of sight)
+  double average_nees = 0.0;    // e^T P^-1 e, 3 dof (3 when consistent)
+  double filter_rmse_m = 0.0;   // the same for the filter's own beliefs
   double filter_lateral_rmse_m = 0.0;
   double filter_average_nees = 0.0;
-  double beacon_only_rmse_m = 0.0;     // beacon_fix of every received beacon (0: none)
+  double beacon_only_rmse_m = 0.0;  // beacon_fix of every received beacon (0: none)
   double beacon_only_lateral_rmse_m = 0.0;
   int num_beacons = 0;
-  std::vector<int> gd_iterations;          // per UAV
-  std::vector<int> bf_fallback_iterations; // per UAV
+  std::vector<int> gd_iterations;            // per UAV
+  std::vector<int> bf_fallback_iterations;   // per UAV
   std::vector<int> last_fallback_iteration;  // per UAV, 0 = never
-  std::vector<std::string> mode_trace;     // [iteration - 1][uav]: 'G' or 'B'
-  int escapes = 0;                         // successful stall escapes
-  int refinement_covariance_fallbacks = 0; // CovarianceSource::kDeadReckoning results
+  std::vector<std::string> mode_trace;       // [iteration - 1][uav]: 'G' or 'B'
+  int escapes = 0;                           // successful stall escapes
+  int refinement_covariance_fallbacks = 0;   // CovarianceSource::kDeadReckoning results
   // Measurements the master dropped, per UAV: non-finite, or beacons failing
   // localization::is_plausible (see "Faults" above).
   std::vector<int> rejected_beacons;
@@ -212,9 +212,9 @@ struct EpochObservation {
   // Dead reckoning since the previous epoch, as the filter consumed it (none at epoch 0).
   std::optional<Eigen::Vector3d> measured_displacement_m;
   std::optional<localization::BeaconMeasurement> beacon;  // as the filter consumed it
-  std::optional<CsiMeasurement> csi;  // the row the refinement used (refine and use_csi only)
-  localization::Belief filter_belief;  // the filter's belief after this epoch
-  localization::Belief belief;         // what placement uses (refined, or the filter's)
+  std::optional<CsiMeasurement> csi;                      // the row the refinement used (refine and use_csi only)
+  localization::Belief filter_belief;                     // the filter's belief after this epoch
+  localization::Belief belief;                            // what placement uses (refined, or the filter's)
 };
 
 struct MoveObservation {
@@ -240,9 +240,8 @@ class ClosedLoopObserver {
 
 class ClosedLoopPlanner : public placement::Planner {
  public:
-  ClosedLoopPlanner(const placement::Scenario& scenario, const placement::GdOptions& gd,
-                    const placement::BfOptions& bf, const ClosedLoopConfig& config,
-                    std::uint64_t seed);
+  ClosedLoopPlanner(const placement::Scenario& scenario, const placement::GdOptions& gd, const placement::BfOptions& bf,
+                    const ClosedLoopConfig& config, std::uint64_t seed);
   ~ClosedLoopPlanner() override;
   ClosedLoopPlanner(const ClosedLoopPlanner&) = delete;
   ClosedLoopPlanner& operator=(const ClosedLoopPlanner&) = delete;
@@ -270,11 +269,8 @@ class ClosedLoopPlanner : public placement::Planner {
   bool fault_active(UavFaultKind kind, int m, int iteration) const;
   // UAV m's CSI row at iteration `iteration` (none without use_csi), with any injected fault;
   // the estimator screens it.
-  std::vector<CsiMeasurement> measure_csi(int m, const Eigen::Vector3d& q_m, int iteration,
-                                          std::mt19937_64& rng) const;
-  bool unresponsive(int m, int iteration) const {
-    return fault_active(UavFaultKind::kUnresponsive, m, iteration);
-  }
+  std::vector<CsiMeasurement> measure_csi(int m, const Eigen::Vector3d& q_m, int iteration, std::mt19937_64& rng) const;
+  bool unresponsive(int m, int iteration) const { return fault_active(UavFaultKind::kUnresponsive, m, iteration); }
   // Takes UAV m's epoch: its belief for placement, counters, a fault from an unhealthy belief
   // (kNumericalFault), the observer and the error statistics.
   void record_epoch(int m, int epoch, const Eigen::Vector3d& q_m, const EpochEstimate& estimate);
@@ -293,8 +289,8 @@ class ClosedLoopPlanner : public placement::Planner {
   std::vector<Uav> uavs_;  // per-UAV sensors, filter, refiner (closed_loop.cpp)
   std::vector<localization::Belief> beliefs_;
   ClosedLoopObserver* observer_ = nullptr;
-  int escape_iteration_ = 0;  // the iteration try_escape runs in (for the observer)
-  std::vector<char> heard_;    // per UAV: a measurement or a motion in the current iteration
+  int escape_iteration_ = 0;       // the iteration try_escape runs in (for the observer)
+  std::vector<char> heard_;        // per UAV: a measurement or a motion in the current iteration
   std::vector<int> silent_since_;  // per UAV: first iteration of the current silence, 0: none
   std::optional<placement::PlannerFault> fault_;
 
@@ -312,8 +308,8 @@ struct ClosedLoopRun {
   ClosedLoopStats stats;
 };
 // `observer` (optional, not owned) sees the run as ClosedLoopObserver describes.
-ClosedLoopRun run_closed_loop(const placement::PlacementSettings& settings,
-                              const Eigen::Matrix3Xd& start_m, const ClosedLoopConfig& config,
-                              std::uint64_t seed, ClosedLoopObserver* observer = nullptr);
+ClosedLoopRun run_closed_loop(const placement::PlacementSettings& settings, const Eigen::Matrix3Xd& start_m,
+                              const ClosedLoopConfig& config, std::uint64_t seed,
+                              ClosedLoopObserver* observer = nullptr);
 
 }  // namespace losmimo::fusion

@@ -28,8 +28,7 @@ const common::KeyTable<ClosedLoopConfig>& closed_loop_keys();
 // [errors] sigma_act_m as the simulator's actuation error) and validates: a bad value, a broken
 // rule (validate(ClosedLoopConfig)) or a UAV index beyond the swarm throws common::InputError
 // naming the key.
-ClosedLoopConfig load_closed_loop_config(const common::IniConfig& ini,
-                                         const placement::PlacementSettings& placement);
+ClosedLoopConfig load_closed_loop_config(const common::IniConfig& ini, const placement::PlacementSettings& placement);
 
 // The [closed_loop] section of `config`: every key with its value (faults,
 // unresponsive_after_iterations and filter_max_beacon_range_m only when set).

@@ -55,8 +55,7 @@ class PositionPriorCost {
 //         wrap(atan2(z, rho) - elevation_rad) / sigma_angle_rad )
 class BeaconCost {
  public:
-  BeaconCost(double range_m, double azimuth_rad, double elevation_rad, double sigma_range_m,
-             double sigma_angle_rad)
+  BeaconCost(double range_m, double azimuth_rad, double elevation_rad, double sigma_range_m, double sigma_angle_rad)
       : range_m_(range_m),
         azimuth_rad_(azimuth_rad),
         elevation_rad_(elevation_rad),
@@ -75,8 +74,8 @@ class BeaconCost {
     return true;
   }
 
-  static ceres::CostFunction* Create(double range_m, double azimuth_rad, double elevation_rad,
-                                     double sigma_range_m, double sigma_angle_rad);
+  static ceres::CostFunction* Create(double range_m, double azimuth_rad, double elevation_rad, double sigma_range_m,
+                                     double sigma_angle_rad);
 
  private:
   const double range_m_;
@@ -132,18 +131,14 @@ class CsiPhaseCost {
       const T dy = q_m[1] - antennas_m_(1, k);
       const T dz = q_m[2] - antennas_m_(2, k);
       const T d_m = sqrt(dx * dx + dy * dy + dz * dz);
-      const T p_dot_q = antennas_m_(0, k) * q_m[0] + antennas_m_(1, k) * q_m[1] +
-                        antennas_m_(2, k) * q_m[2];
+      const T p_dot_q = antennas_m_(0, k) * q_m[0] + antennas_m_(1, k) * q_m[1] + antennas_m_(2, k) * q_m[2];
       const T delta_m = (antennas_m_.col(k).squaredNorm() - 2.0 * p_dot_q) / (d_m + range_m);
-      residual[k] = wrap_angle_rad(measured_phase_rad_(k) + wavenumber_rad_per_m_ * delta_m -
-                                   psi_rad[0]) *
-                    inv_sigma_;
+      residual[k] = wrap_angle_rad(measured_phase_rad_(k) + wavenumber_rad_per_m_ * delta_m - psi_rad[0]) * inv_sigma_;
     }
     return true;
   }
 
-  static ceres::CostFunction* Create(const Eigen::VectorXd& measured_phase_rad,
-                                     const Eigen::Matrix3Xd& antennas_m,
+  static ceres::CostFunction* Create(const Eigen::VectorXd& measured_phase_rad, const Eigen::Matrix3Xd& antennas_m,
                                      double wavenumber_rad_per_m, double sigma_phase_rad);
 
  private:

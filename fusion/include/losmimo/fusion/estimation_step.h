@@ -67,9 +67,9 @@ struct EpochEstimate {
   // The beacon-only position of a beacon that passed the screen (also when the filter's gate
   // or the epoch-0 health rule then refused it): the beacon-only statistics' sample.
   std::optional<Eigen::Vector3d> beacon_fix_m;
-  bool rejected_beacon = false;        // implausible (screen 1)
-  bool rejected_displacement = false;  // non-finite
-  int rejected_csi = 0;                // rows with a non-finite entry
+  bool rejected_beacon = false;                 // implausible (screen 1)
+  bool rejected_displacement = false;           // non-finite
+  int rejected_csi = 0;                         // rows with a non-finite entry
   bool refinement_covariance_fallback = false;  // CovarianceSource::kDeadReckoning
   // Epoch 0 only: where the filter's start came from.
   localization::InitialBeliefSource initial_source = localization::InitialBeliefSource::kPriorNoBeacon;
@@ -80,8 +80,8 @@ class UavEstimator {
  public:
   // `prior`: the belief without a beacon (normally start_cube_prior). `filter_seed` drives the
   // particle filter's draws (the EKF draws none). Validates the config (common::FieldError).
-  UavEstimator(const placement::Scenario& scenario, const EstimatorConfig& config,
-               const localization::Belief& prior, std::uint64_t filter_seed);
+  UavEstimator(const placement::Scenario& scenario, const EstimatorConfig& config, const localization::Belief& prior,
+               std::uint64_t filter_seed);
   ~UavEstimator();
   UavEstimator(UavEstimator&&) noexcept;
   UavEstimator& operator=(UavEstimator&&) noexcept;

@@ -78,8 +78,7 @@ class OdometryCost {
 //   c = p + Rz(yaw) s,   r = (|c - b| - range_m) / sigma_m
 class RangeCost {
  public:
-  RangeCost(double range_m, const Eigen::Vector3d& sensor_on_robot_m, const Eigen::Vector3d& beacon_m,
-            double sigma_m)
+  RangeCost(double range_m, const Eigen::Vector3d& sensor_on_robot_m, const Eigen::Vector3d& beacon_m, double sigma_m)
       : range_m_(range_m), sensor_on_robot_m_(sensor_on_robot_m), beacon_m_(beacon_m), inv_sigma_(1.0 / sigma_m) {}
 
   template <typename T>

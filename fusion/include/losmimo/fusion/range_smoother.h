@@ -64,16 +64,16 @@ void validate(const RangeSmootherConfig& config);
 struct SmootherFrame {
   localization::OdometryIncrement odometry;  // from the previous frame (ignored for frame 0)
   std::vector<localization::BeaconRangeScan> scans;
-  localization::PoseBelief filter_belief;    // the filter's belief after this frame: seed and prior
+  localization::PoseBelief filter_belief;  // the filter's belief after this frame: seed and prior
 };
 
 struct RangeSmootherResult {
   std::vector<localization::PoseBelief> track;  // one per frame; yaw wrapped to (-pi, pi]
-  int problems = 0;                  // Ceres problems solved
-  int not_converged = 0;             // of them, ended without CONVERGENCE (iteration limit, failure)
-  std::int64_t iterations = 0;       // summed over problems
-  std::int64_t ranges_used = 0;      // readings of frames 1.. that passed the screen (each once)
-  std::int64_t ranges_down_weighted = 0;  // of them, beyond the loss scale a at the reported pose
+  int problems = 0;                             // Ceres problems solved
+  int not_converged = 0;                        // of them, ended without CONVERGENCE (iteration limit, failure)
+  std::int64_t iterations = 0;                  // summed over problems
+  std::int64_t ranges_used = 0;                 // readings of frames 1.. that passed the screen (each once)
+  std::int64_t ranges_down_weighted = 0;        // of them, beyond the loss scale a at the reported pose
   int covariance_fallbacks = 0;
 };
 
@@ -90,8 +90,7 @@ std::optional<std::vector<Eigen::Matrix4d>> chain_marginal_covariances(const std
 // Throws std::invalid_argument for an empty track, an invalid config (validate(), and
 // localization::validate(PoseFilterConfig)).
 RangeSmootherResult smooth_range_track(const localization::PoseFilterConfig& config,
-                                       const localization::BeaconMap& beacons,
-                                       const std::vector<SmootherFrame>& frames,
+                                       const localization::BeaconMap& beacons, const std::vector<SmootherFrame>& frames,
                                        const RangeSmootherConfig& smoother);
 
 }  // namespace losmimo::fusion

@@ -45,20 +45,20 @@
 namespace losmimo::fusion {
 
 struct RefinementConfig {
-  int window_epochs = 5;            // W, in [1, 64]
-  bool use_csi = true;              // false: prior + beacons + dead reckoning only (comparison)
+  int window_epochs = 5;  // W, in [1, 64]
+  bool use_csi = true;    // false: prior + beacons + dead reckoning only (comparison)
   bool use_beacons = true;
   // Sensor sigmas: defaults equal localization::NoiseModel's (use refinement_config_from).
   double beacon_sigma_range_m = 0.1;
-  double beacon_sigma_angle_rad = 1e-4;    // 0.1 m cross-range at 1 km
-  double dr_sigma_floor_m = 0.01;          // per axis, per displacement
-  double dr_sigma_fraction = 0.02;         // per axis, per metre of measured displacement
-  double csi_noise_variance = 0.1;         // per entry, normalised: Scenario::noise_variance()
+  double beacon_sigma_angle_rad = 1e-4;  // 0.1 m cross-range at 1 km
+  double dr_sigma_floor_m = 0.01;        // per axis, per displacement
+  double dr_sigma_fraction = 0.02;       // per axis, per metre of measured displacement
+  double csi_noise_variance = 0.1;       // per entry, normalised: Scenario::noise_variance()
   // CSI phases wrap every few metres across the line of sight (~+-3.3 m over the 0.75 m
   // aperture at 1 km): with a wider prior the solve can lock onto a wrong lobe with a tiny
   // covariance. CSI rows are used only while the prior's lateral 1-sigma is below this.
   double csi_max_prior_sigma_m = 0.5;
-  int max_iterations = 20;                 // Levenberg-Marquardt iterations
+  int max_iterations = 20;  // Levenberg-Marquardt iterations
   // DENSE_SVD rank test: sigma_min / sigma_max of the Jacobian below sqrt(this) is rank deficient.
   double min_reciprocal_condition_number = 1e-14;
 };
@@ -77,15 +77,14 @@ void validate(const RefinementConfig& config);
 
 // The filter's noise model and the scenario's CSI noise (Scenario::noise_variance()) as a
 // refinement config; the other fields keep their defaults.
-RefinementConfig refinement_config_from(const localization::NoiseModel& noise,
-                                        double csi_noise_variance);
+RefinementConfig refinement_config_from(const localization::NoiseModel& noise, double csi_noise_variance);
 
 // What one UAV has at one epoch.
 struct RefinementEpoch {
-  localization::Belief filter_belief;              // the filter's belief at this epoch
-  std::optional<Eigen::Vector3d> displacement_m;   // dead reckoning since the previous epoch
+  localization::Belief filter_belief;             // the filter's belief at this epoch
+  std::optional<Eigen::Vector3d> displacement_m;  // dead reckoning since the previous epoch
   std::optional<localization::BeaconMeasurement> beacon;
-  std::vector<CsiMeasurement> csi;                 // rows measured at this epoch (any number)
+  std::vector<CsiMeasurement> csi;  // rows measured at this epoch (any number)
 };
 
 enum class CovarianceSource {
@@ -99,13 +98,13 @@ struct RefinementResult {
   // the covariance fell back; epochs_since_beacon is the newest filter belief's.
   localization::Belief belief;
   CovarianceSource covariance_source = CovarianceSource::kCeres;
-  bool solver_converged = false;   // Ceres reported CONVERGENCE
+  bool solver_converged = false;  // Ceres reported CONVERGENCE
   int iterations = 0;
   int num_epochs = 0;
-  int num_beacons = 0;             // beacon blocks used (epochs 1..W-1)
-  int num_csi = 0;                 // CSI rows used
-  bool csi_gated = false;          // CSI rows present but unused: prior too wide (see config)
-  double initial_cost = 0.0;       // Ceres cost = 0.5 * sum of squared whitened residuals
+  int num_beacons = 0;        // beacon blocks used (epochs 1..W-1)
+  int num_csi = 0;            // CSI rows used
+  bool csi_gated = false;     // CSI rows present but unused: prior too wide (see config)
+  double initial_cost = 0.0;  // Ceres cost = 0.5 * sum of squared whitened residuals
   double final_cost = 0.0;
   Eigen::Matrix3Xd window_positions_m;  // refined q_0 .. q_{W-1}
 };

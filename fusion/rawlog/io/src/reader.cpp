@@ -39,8 +39,8 @@ struct Stop {
 // Serialized sizes of the fixed-size nested objects, measured from MRPT itself.
 struct Calibration {
   std::vector<std::uint8_t> pose3d, pose3d_pdf, pose2d, point3d;  // whole envelopes of default objects
-  std::size_t bearing_cov_bytes = 0;   // one TMeasurement::covariance
-  std::size_t odometry_velocity_bytes = 0;  // CObservationOdometry::velocityLocal
+  std::size_t bearing_cov_bytes = 0;                              // one TMeasurement::covariance
+  std::size_t odometry_velocity_bytes = 0;                        // CObservationOdometry::velocityLocal
 };
 
 const Calibration& calibration() {
@@ -87,11 +87,16 @@ std::string first_line(const std::string& s) {
 
 std::string to_string(RawlogStop stop) {
   switch (stop) {
-    case RawlogStop::kNone: return "reading";
-    case RawlogStop::kEnd: return "end";
-    case RawlogStop::kTruncated: return "truncated";
-    case RawlogStop::kCorrupt: return "corrupt";
-    case RawlogStop::kLimit: return "limit";
+    case RawlogStop::kNone:
+      return "reading";
+    case RawlogStop::kEnd:
+      return "end";
+    case RawlogStop::kTruncated:
+      return "truncated";
+    case RawlogStop::kCorrupt:
+      return "corrupt";
+    case RawlogStop::kLimit:
+      return "limit";
   }
   return "?";
 }
@@ -101,8 +106,8 @@ std::string RawlogReadStatus::describe() const {
   if (stop == RawlogStop::kEnd) {
     o << "end of file after " << objects << " objects (" << offset << " bytes)";
   } else {
-    o << "stopped at object " << objects << " (uncompressed byte " << offset << "): "
-      << to_string(stop) << ": " << reason;
+    o << "stopped at object " << objects << " (uncompressed byte " << offset << "): " << to_string(stop) << ": "
+      << reason;
   }
   return o.str();
 }
@@ -117,8 +122,8 @@ struct RawlogReader::Impl {
   bool to_sandbox = false;            // foreign: the objects from here on go to the sandbox
   std::unique_ptr<ObjectSandbox> sandbox;
   std::vector<std::uint8_t> buf;
-  std::size_t head = 0;         // start of the current object in buf
-  std::uint64_t buf_base = 0;   // absolute offset of buf[0]
+  std::size_t head = 0;        // start of the current object in buf
+  std::uint64_t buf_base = 0;  // absolute offset of buf[0]
   bool source_ended = false;
   RawlogReadStatus status;
 
@@ -156,8 +161,8 @@ struct RawlogReader::Impl {
     std::size_t pos = 0;
     void need(std::size_t n) {
       if (n > r.options.max_object_bytes || pos + n > r.options.max_object_bytes)
-        throw Stop{RawlogStop::kLimit, "object larger than max_object_bytes (" +
-                                           std::to_string(r.options.max_object_bytes) + ")"};
+        throw Stop{RawlogStop::kLimit,
+                   "object larger than max_object_bytes (" + std::to_string(r.options.max_object_bytes) + ")"};
       if (!r.ensure(pos + n)) throw Stop{RawlogStop::kTruncated, "data ends inside an object"};
     }
     const std::uint8_t* at() const { return r.buf.data() + r.head + pos; }
@@ -179,15 +184,13 @@ struct RawlogReader::Impl {
     void string(const char* what) {
       const std::uint32_t n = u32();
       if (n > r.options.max_string_bytes)
-        throw Stop{RawlogStop::kLimit, std::string(what) + " length " + std::to_string(n) +
-                                           " above max_string_bytes"};
+        throw Stop{RawlogStop::kLimit, std::string(what) + " length " + std::to_string(n) + " above max_string_bytes"};
       skip(n);
     }
     void vector(std::size_t elem_bytes, const char* what) {
       const std::uint32_t n = u32();
       if (static_cast<std::uint64_t>(n) * elem_bytes > r.options.max_object_bytes)
-        throw Stop{RawlogStop::kLimit, std::string(what) + " length " + std::to_string(n) +
-                                           " above max_object_bytes"};
+        throw Stop{RawlogStop::kLimit, std::string(what) + " length " + std::to_string(n) + " above max_object_bytes"};
       skip(n * elem_bytes);
     }
     // A nested fixed-size object: its header must match the calibrated one exactly.
@@ -254,7 +257,7 @@ struct RawlogReader::Impl {
       c.skip(n * per);
       c.string("sensorLabel");
     } else if (cls == "CObservationBeaconRanges" && version == 3) {
-      c.skip(3 * 4);  // min/max distance, stdError
+      c.skip(3 * 4);                                       // min/max distance, stdError
       const std::size_t per = cal.point3d.size() + 4 + 4;  // sensorLocationOnRobot, range, ID
       const std::uint32_t n = c.u32();
       if (static_cast<std::uint64_t>(n) * per > options.max_object_bytes)
@@ -269,8 +272,8 @@ struct RawlogReader::Impl {
     } else if (cls == "CObservationOdometry" && version == 2) {
       c.nested(cal.pose2d, "CPose2D");
       c.string("sensorLabel");
-      c.skip(8);                     // timestamp
-      if (c.u8() != 0) c.skip(2 * 4);  // encoder ticks
+      c.skip(8);                                             // timestamp
+      if (c.u8() != 0) c.skip(2 * 4);                        // encoder ticks
       if (c.u8() != 0) c.skip(cal.odometry_velocity_bytes);  // velocityLocal
     } else if (cls == "CObservationRobotPose" && version == 1) {
       c.nested(cal.pose3d_pdf, "CPose3DPDFGaussian");
@@ -436,7 +439,8 @@ RawlogReadStatus run_sandbox_job(const SandboxJob& job, const RawlogReaderOption
     // Skip to the job's first object (the parent read the ones before it).
     std::vector<std::uint8_t> scratch(64 * 1024);
     for (std::uint64_t left = job.offset; left > 0;) {
-      const std::size_t got = r.source->read(scratch.data(), static_cast<std::size_t>(std::min<std::uint64_t>(left, scratch.size())));
+      const std::size_t got =
+          r.source->read(scratch.data(), static_cast<std::size_t>(std::min<std::uint64_t>(left, scratch.size())));
       if (got == 0) throw RawlogSourceError("the log ended before the sandbox's first object", true);
       left -= got;
     }

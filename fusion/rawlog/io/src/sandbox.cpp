@@ -145,7 +145,8 @@ void limit(int resource, rlim_t value) {
   ::prctl(PR_SET_PDEATHSIG, SIGKILL);
   if (::getppid() != parent) ::_exit(0);
   if (__sanitizer_set_death_callback) __sanitizer_set_death_callback(nullptr);
-  for (const int sig : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL, SIGXCPU, SIGTERM, SIGINT, SIGALRM}) ::signal(sig, SIG_DFL);
+  for (const int sig : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL, SIGXCPU, SIGTERM, SIGINT, SIGALRM})
+    ::signal(sig, SIG_DFL);
   const int null = ::open("/dev/null", O_RDWR | O_CLOEXEC);
   if (null >= 0) {
     ::dup2(null, STDOUT_FILENO);
@@ -244,8 +245,7 @@ struct ObjectSandbox::Impl {
     fd = -1;
     if (pid > 0) {
       ::kill(pid, SIGKILL);
-      while (::waitpid(pid, nullptr, 0) < 0 && errno == EINTR) {
-      }
+      while (::waitpid(pid, nullptr, 0) < 0 && errno == EINTR) {}
     }
     pid = -1;
     job_active = false;
@@ -295,7 +295,8 @@ struct ObjectSandbox::Impl {
         }
         if (r == 0) {
           rbuf.clear();
-          stopped(RawlogStop::kLimit, "no result for " + std::to_string(limits.stall_seconds) + " s: the sandbox was stopped");
+          stopped(RawlogStop::kLimit,
+                  "no result for " + std::to_string(limits.stall_seconds) + " s: the sandbox was stopped");
           return false;
         }
         const ssize_t k = ::read(fd, rbuf.data(), rbuf.size());
@@ -331,8 +332,7 @@ struct ObjectSandbox::Impl {
   void died() {
     int st = 0;
     pid_t r;
-    while ((r = ::waitpid(pid, &st, 0)) < 0 && errno == EINTR) {
-    }
+    while ((r = ::waitpid(pid, &st, 0)) < 0 && errno == EINTR) {}
     pid = -1;
     std::string why = "the sandbox ended without a result";
     RawlogStop kind = RawlogStop::kCorrupt;
@@ -424,7 +424,8 @@ std::optional<RawlogObject> ObjectSandbox::next() {
     }
     s.status.reason.resize(n);
     if (!s.receive(s.status.reason.data(), n)) return std::nullopt;
-    s.status.stop = stop <= static_cast<std::uint8_t>(RawlogStop::kLimit) ? static_cast<RawlogStop>(stop) : RawlogStop::kCorrupt;
+    s.status.stop =
+        stop <= static_cast<std::uint8_t>(RawlogStop::kLimit) ? static_cast<RawlogStop>(stop) : RawlogStop::kCorrupt;
     s.job_active = false;
     return std::nullopt;
   }

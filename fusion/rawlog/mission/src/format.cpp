@@ -11,8 +11,8 @@
 namespace losmimo::rawlog {
 
 namespace {
-constexpr const char* kStreamNames[] = {"TRUTH",   "DR",   "BEACON",   "BEACON64", "CSI",
-                                        "BELIEF",  "REFINED", "MOVE", "ODOMETRY", "BS_RANGES"};
+constexpr const char* kStreamNames[] = {"TRUTH",  "DR",      "BEACON", "BEACON64", "CSI",
+                                        "BELIEF", "REFINED", "MOVE",   "ODOMETRY", "BS_RANGES"};
 constexpr int kNumStreams = sizeof(kStreamNames) / sizeof(kStreamNames[0]);
 }  // namespace
 
@@ -74,7 +74,8 @@ std::string read_run_end(const std::map<std::string, std::string>& keys, int num
     char* stop = nullptr;
     const long v = std::strtol(uav->c_str(), &stop, 10);
     if (!fault || uav->empty() || *stop != '\0' || v < -1 || v >= num_uavs)
-      return "fault_uav = '" + *uav + "': not a UAV index in [-1, " + std::to_string(num_uavs - 1) + "] of a faulted run";
+      return "fault_uav = '" + *uav + "': not a UAV index in [-1, " + std::to_string(num_uavs - 1) +
+             "] of a faulted run";
     end.fault_uav = static_cast<int>(v);
   }
   if (!fault && get("fault")) return "fault = '" + end.fault + "' with status = " + status;

@@ -27,7 +27,7 @@ namespace losmimo::rawlog {
 namespace {
 
 using mrpt::obs::CObservation;
-constexpr int kMaxUavs = 4096;      // placement's num_uavs bound
+constexpr int kMaxUavs = 4096;  // placement's num_uavs bound
 constexpr int kMaxEpochs = 10'000'000;
 constexpr int kMaxForeignUavs = 256;  // foreign labels above UAV255_ are skipped
 
@@ -117,7 +117,7 @@ class Builder {
     }
     if (static_cast<int>(log_.filter_seeds.size()) != log_.num_uavs)
       throw common::InputError("rawlog CONFIG: filter_seeds has " + std::to_string(log_.filter_seeds.size()) +
-                                  " entries for " + std::to_string(log_.num_uavs) + " UAVs");
+                               " entries for " + std::to_string(log_.num_uavs) + " UAVs");
   }
 
   // The header line's version ("losmimo-rawlog <version>"): one this reader knows, or an error
@@ -137,9 +137,9 @@ class Builder {
                                " is newer than this losmimo reads (" + std::to_string(kOldestRawlogFormatVersion) +
                                " to " + std::to_string(kRawlogFormatVersion) + "): use a newer losmimo-replay");
     if (v < kOldestRawlogFormatVersion)
-      throw common::InputError("rawlog CONFIG: format version " + std::to_string(v) + " is not a losmimo rawlog version (" +
-                               std::to_string(kOldestRawlogFormatVersion) + " to " +
-                               std::to_string(kRawlogFormatVersion) + ")");
+      throw common::InputError("rawlog CONFIG: format version " + std::to_string(v) +
+                               " is not a losmimo rawlog version (" + std::to_string(kOldestRawlogFormatVersion) +
+                               " to " + std::to_string(kRawlogFormatVersion) + ")");
     return v;
   }
 
@@ -189,7 +189,8 @@ class Builder {
     if (error.empty() && end) error = check_counts(keys);
     if (error.empty() && end) error = read_run_end(keys, log_.num_uavs, log_.run_end);
     if (!error.empty()) {
-      log_.integrity_error = std::string(end ? kLabelEndOfLog : kLabelEpochEnd) + " mark at object " + std::to_string(o.index) + ": " + error;
+      log_.integrity_error = std::string(end ? kLabelEndOfLog : kLabelEpochEnd) + " mark at object " +
+                             std::to_string(o.index) + ": " + error;
       log_.objects_after_last_mark = static_cast<std::int64_t>(pending_.size()) + 1;
       pending_.clear();
       return;
@@ -370,8 +371,7 @@ class Builder {
           const auto& p = m3->poseChange.mean;
           open_epoch(0, {p.x(), p.y(), p.z()});
           count(log_.used, name, "");
-        } else if (const auto* m2 = dynamic_cast<const mrpt::obs::CActionRobotMovement2D*>(&a);
-                   m2 && m2->poseChange) {
+        } else if (const auto* m2 = dynamic_cast<const mrpt::obs::CActionRobotMovement2D*>(&a); m2 && m2->poseChange) {
           const auto p = m2->poseChange->getMeanVal();
           open_epoch(0, {p.x(), p.y(), 0.0});
           count(log_.used, name, "");
@@ -395,8 +395,10 @@ class Builder {
     } else if (const auto* odo = dynamic_cast<const mrpt::obs::CObservationOdometry*>(&obj)) {
       if (uav >= static_cast<int>(last_odometry_.size())) last_odometry_.resize(uav + 1);
       const Eigen::Vector3d p(odo->odometry.x(), odo->odometry.y(), 0.0);
-      if (last_odometry_[uav]) open_epoch(uav, p - *last_odometry_[uav]);
-      else current(uav);
+      if (last_odometry_[uav])
+        open_epoch(uav, p - *last_odometry_[uav]);
+      else
+        current(uav);
       last_odometry_[uav] = p;
       used = true;
     } else if (const auto* pose = dynamic_cast<const mrpt::obs::CObservationRobotPose*>(&obj)) {
@@ -420,7 +422,7 @@ class Builder {
   std::uint64_t digest_ = common::kFnvOffset;
   std::vector<Pending> pending_;
   std::map<std::string, std::int64_t> labels_seen_;  // ours, for END_OF_LOG's counts
-  std::int64_t records_ = 0;  // ours: records in the epochs committed (and the one at hand)
+  std::int64_t records_ = 0;                         // ours: records in the epochs committed (and the one at hand)
   std::vector<int> foreign_epoch_;
   std::vector<std::optional<Eigen::Vector3d>> last_odometry_;
 };
@@ -433,7 +435,8 @@ std::string MissionLog::stop_description() const {
   if (!integrity_error.empty()) o << "; integrity: " << integrity_error;
   if (ours && !complete) {
     o << "; no END_OF_LOG: partial log, " << epochs.size() << " complete epochs used";
-    if (objects_after_last_mark > 0) o << ", " << objects_after_last_mark << " objects after the last good mark not used";
+    if (objects_after_last_mark > 0)
+      o << ", " << objects_after_last_mark << " objects after the last good mark not used";
   }
   return o.str();
 }
@@ -444,8 +447,7 @@ MissionLog load_mission_log(rawlog_io::RawlogReader& reader) {
   while (std::optional<rawlog_io::RawlogObject> o = reader.next()) builder.add(*o);
   builder.finish();
   log.read_status = reader.status();
-  if (log.read_status.objects == 0)
-    throw common::InputError("not a readable rawlog: " + log.read_status.describe());
+  if (log.read_status.objects == 0) throw common::InputError("not a readable rawlog: " + log.read_status.describe());
   return log;
 }
 

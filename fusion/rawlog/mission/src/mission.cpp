@@ -8,21 +8,19 @@
 
 namespace losmimo::rawlog {
 
-namespace {
-}  // namespace
+namespace {}  // namespace
 
 const common::KeyTable<MissionConfig>& mission_keys() {
   using K = common::Key<MissionConfig>;
   constexpr long long kSeedMax = std::numeric_limits<long long>::max();
   static const common::KeyTable<MissionConfig> table(
       {
-          K::integer("mission", "seed", &MissionConfig::seed, 0, kSeedMax,
-                     "run seed: sensors, filters, CSI, actuation", "11"),
+          K::integer("mission", "seed", &MissionConfig::seed, 0, kSeedMax, "run seed: sensors, filters, CSI, actuation",
+                     "11"),
           K::integer("mission", "start_seed", &MissionConfig::start_seed, 0, kSeedMax,
                      "draws the start positions in the start cube", "5"),
-          K::real("mission", "epoch_period_s", &MissionConfig::epoch_period_s,
-                  common::Range::above_up_to(0.0, 86400.0), "time between epochs in the rawlog's timestamps [s]",
-                  "0.5"),
+          K::real("mission", "epoch_period_s", &MissionConfig::epoch_period_s, common::Range::above_up_to(0.0, 86400.0),
+                  "time between epochs in the rawlog's timestamps [s]", "0.5"),
       },
       &common::format_exact);
   return table;
@@ -31,8 +29,8 @@ const common::KeyTable<MissionConfig>& mission_keys() {
 std::map<std::string, std::set<std::string>> mission_config_keys(
     std::map<std::string, std::set<std::string>> also_known) {
   auto keys = std::move(also_known);
-  for (const auto& known : {placement::placement_config_keys(), fusion::closed_loop_keys().known_keys(),
-                            mission_keys().known_keys()}) {
+  for (const auto& known :
+       {placement::placement_config_keys(), fusion::closed_loop_keys().known_keys(), mission_keys().known_keys()}) {
     for (const auto& [section, names] : known) keys[section].insert(names.begin(), names.end());
   }
   return keys;

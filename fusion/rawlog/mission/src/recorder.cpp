@@ -31,7 +31,6 @@ namespace losmimo::rawlog {
 
 namespace {
 
-
 // 2026-01-01T00:00:00Z: a fixed origin keeps the logs (and their digests) reproducible.
 constexpr double kTimeOrigin_s = 1767225600.0;
 
@@ -66,8 +65,8 @@ class RawlogWriter {
     c.sensorLabel = label;
     c.timestamp = mrpt::Clock::fromDouble(t_s);
     std::ostringstream text;
-    text << "losmimo " << label << "\nobjects = " << objects_ << "\ndigest = " << common::format_hex64(digest_)
-         << "\n" << body;
+    text << "losmimo " << label << "\nobjects = " << objects_ << "\ndigest = " << common::format_hex64(digest_) << "\n"
+         << body;
     // The mark's own text, up to here, so that no line of it changes unnoticed.
     c.text = with_text_digest(text.str());
     digest_ = common::kFnvOffset;
@@ -94,8 +93,8 @@ class RawlogWriter {
   std::map<std::string, std::int64_t> label_counts_;
 };
 
-mrpt::obs::CObservationRobotPose pose_obs(const std::string& label, double t_s,
-                                          const Eigen::Vector3d& p, const Eigen::Matrix3d& cov) {
+mrpt::obs::CObservationRobotPose pose_obs(const std::string& label, double t_s, const Eigen::Vector3d& p,
+                                          const Eigen::Matrix3d& cov) {
   mrpt::obs::CObservationRobotPose o;
   o.sensorLabel = label;
   o.timestamp = mrpt::Clock::fromDouble(t_s);
@@ -106,8 +105,7 @@ mrpt::obs::CObservationRobotPose pose_obs(const std::string& label, double t_s,
   return o;
 }
 
-mrpt::obs::CObservationRawDAQ daq_obs(const std::string& label, double t_s,
-                                      std::vector<double> values) {
+mrpt::obs::CObservationRawDAQ daq_obs(const std::string& label, double t_s, std::vector<double> values) {
   mrpt::obs::CObservationRawDAQ o;
   o.sensorLabel = label;
   o.timestamp = mrpt::Clock::fromDouble(t_s);
@@ -165,14 +163,13 @@ class Recorder : public fusion::ClosedLoopObserver {
     c.sensorLabel = kLabelConfig;
     c.timestamp = mrpt::Clock::fromDouble(kTimeOrigin_s);
     std::ostringstream text;
-    text << kRawlogMagic << " " << kRawlogFormatVersion << "\n" << mission_to_ini(config_)
-         << "\n[rawlog]\nformat_version = " << kRawlogFormatVersion << "\nnum_uavs = " << nr
+    text << kRawlogMagic << " " << kRawlogFormatVersion << "\n"
+         << mission_to_ini(config_) << "\n[rawlog]\nformat_version = " << kRawlogFormatVersion << "\nnum_uavs = " << nr
          << "\nnum_bs_antennas = " << config_.placement.scenario.num_bs_antennas()
          << "\nepoch_origin_s = " << common::format_exact(kTimeOrigin_s) << "\nfilter_seeds = ";
     for (int m = 0; m < nr; ++m) text << (m ? ", " : "") << filter_seeds[m];
     text << "\ncsi_source = "
-         << (config_.closed_loop.refine && config_.closed_loop.refinement.use_csi ? "loop" : "recorder")
-         << "\n";
+         << (config_.closed_loop.refine && config_.closed_loop.refinement.use_csi ? "loop" : "recorder") << "\n";
     c.text = text.str();
     writer_.write(c);
   }
@@ -186,8 +183,8 @@ class Recorder : public fusion::ClosedLoopObserver {
     if (e.measured_displacement_m) {
       const auto& n = config_.closed_loop.filter.noise;
       const double s = n.dr_sigma_floor_m + n.dr_sigma_fraction * e.measured_displacement_m->norm();
-      writer_.write(pose_obs(uav_label(m, UavStream::kDr), t, *e.measured_displacement_m,
-                             s * s * Eigen::Matrix3d::Identity()));
+      writer_.write(
+          pose_obs(uav_label(m, UavStream::kDr), t, *e.measured_displacement_m, s * s * Eigen::Matrix3d::Identity()));
       odometry_m_[m] += e.measured_displacement_m->head<2>();
     }
     writer_.write(odometry_obs(uav_label(m, UavStream::kOdometry), t, odometry_m_[m]));
@@ -205,7 +202,7 @@ class Recorder : public fusion::ClosedLoopObserver {
       z.range = static_cast<float>(e.beacon->range_m);
       z.yaw = static_cast<float>(e.beacon->azimuth_rad);
       z.pitch = static_cast<float>(-e.beacon->elevation_rad);  // MRPT: pitch = -elevation
-      z.landmarkID = 0;                                          // the BS
+      z.landmarkID = 0;                                        // the BS
       z.covariance.setZero();
       b.sensedData.push_back(z);
       writer_.write(b);
@@ -249,9 +246,8 @@ class Recorder : public fusion::ClosedLoopObserver {
   void close_epoch(int epoch, double icn_after_moves) {
     if (!epoch_open_) return;
     std::ostringstream body;
-    body << "epoch = " << epoch << "\nmark = " << marks_
-         << "\nfilter_degraded = " << flags(filter_degraded_) << "\ndegraded = " << flags(degraded_)
-         << "\nepochs_since_beacon = ";
+    body << "epoch = " << epoch << "\nmark = " << marks_ << "\nfilter_degraded = " << flags(filter_degraded_)
+         << "\ndegraded = " << flags(degraded_) << "\nepochs_since_beacon = ";
     for (std::size_t m = 0; m < since_beacon_.size(); ++m) body << (m ? "," : "") << since_beacon_[m];
     body << "\nmodes = " << flags(modes_) << "\nicn_after_moves = " << common::format_exact(icn_after_moves) << "\n";
     writer_.mark(kLabelEpochEnd, body.str(), time_s(epoch) + 0.9 * config_.epoch_period_s);
@@ -266,14 +262,14 @@ class Recorder : public fusion::ClosedLoopObserver {
     const int final_epoch = r.run.iterations;
     if (final_epoch > 0) {
       for (int m = 0; m < r.run.final_m.cols(); ++m) {
-        writer_.write(pose_obs(uav_label(m, UavStream::kTruth), time_s(final_epoch),
-                               r.run.final_m.col(m), Eigen::Matrix3d::Zero()));
+        writer_.write(pose_obs(uav_label(m, UavStream::kTruth), time_s(final_epoch), r.run.final_m.col(m),
+                               Eigen::Matrix3d::Zero()));
       }
     }
     std::ostringstream body;
     body << "epochs = " << epochs_ << "\nmarks = " << marks_
-         << "\nfinal_truth_epoch = " << (final_epoch > 0 ? final_epoch : -1)
-         << "\niterations = " << r.run.iterations << "\nstatus = " << placement::to_string(r.run.status)
+         << "\nfinal_truth_epoch = " << (final_epoch > 0 ? final_epoch : -1) << "\niterations = " << r.run.iterations
+         << "\nstatus = " << placement::to_string(r.run.status)
          << "\nfinal_icn = " << common::format_exact(r.run.trace.empty() ? 0.0 : r.run.trace.back().icn) << "\n";
     if (r.run.faulted()) {  // only then: the logs of runs without a fault stay byte for byte
       std::string reason = r.run.fault;
@@ -312,7 +308,7 @@ class Recorder : public fusion::ClosedLoopObserver {
 RecordResult record_mission(const MissionConfig& config, const RecordOptions& options) {
   Recorder recorder(config, options);
   const fusion::ClosedLoopRun run = fusion::run_closed_loop(config.placement, mission_start_positions_m(config),
-                                            config.closed_loop, config.seed, &recorder);
+                                                            config.closed_loop, config.seed, &recorder);
   return recorder.finish(run);
 }
 
@@ -327,21 +323,25 @@ std::string mission_beacons_ini_text(const MissionConfig& config) {
   // 1 mm, the smallest range sigma the filters assume.
   constexpr double kMinRangesStd_m = 1e-3;
   std::ostringstream s;
-  s << mrpt_logs::beacons_ini_text(bs_ranges_beacon_map(), std::max(config.closed_loop.simulator.sigma_range_m, kMinRangesStd_m));
+  s << mrpt_logs::beacons_ini_text(bs_ranges_beacon_map(),
+                                   std::max(config.closed_loop.simulator.sigma_range_m, kMinRangesStd_m));
   // The prior every UAV starts from: the start cube's x-y extent; heading 0, the odometry's
   // axes being the BS frame's.
   const placement::Scenario& sc = config.placement.scenario;
   const double h = 0.5 * sc.cube_side_m;
   s << "\n[LocalizationExperiment]\ninit_PDF_mode = 1\n"
-    << "init_PDF_min_x = " << common::format_exact(sc.cube_center_m.x() - h) << "\ninit_PDF_max_x = " << common::format_exact(sc.cube_center_m.x() + h)
-    << "\ninit_PDF_min_y = " << common::format_exact(sc.cube_center_m.y() - h) << "\ninit_PDF_max_y = " << common::format_exact(sc.cube_center_m.y() + h)
+    << "init_PDF_min_x = " << common::format_exact(sc.cube_center_m.x() - h)
+    << "\ninit_PDF_max_x = " << common::format_exact(sc.cube_center_m.x() + h)
+    << "\ninit_PDF_min_y = " << common::format_exact(sc.cube_center_m.y() - h)
+    << "\ninit_PDF_max_y = " << common::format_exact(sc.cube_center_m.y() + h)
     << "\ninit_PDF_min_yaw_deg = 0\ninit_PDF_max_yaw_deg = 0\n";
   return s.str();
 }
 
 std::string beacons_ini_path(const std::string& log_path) {
   const std::string ext = ".rawlog";
-  const bool has_ext = log_path.size() > ext.size() && log_path.compare(log_path.size() - ext.size(), ext.size(), ext) == 0;
+  const bool has_ext =
+      log_path.size() > ext.size() && log_path.compare(log_path.size() - ext.size(), ext.size(), ext) == 0;
   return (has_ext ? log_path.substr(0, log_path.size() - ext.size()) : log_path) + ".beacons.ini";
 }
 

@@ -36,7 +36,6 @@ bool bitwise_equal(const localization::Belief& a, const localization::Belief& b)
   return true;
 }
 
-
 // The link metrics of positions q (3 x Nr) into row m.
 void link_metrics(const placement::ChannelModel& model, double noise_variance, const Eigen::Matrix3Xd& q,
                   ReplayEpochMetrics& row) {
@@ -148,8 +147,8 @@ ReplayUavEpoch MissionReplay::uav_epoch(int k, int m, EpochColumns& columns, Rep
   if (!silent) {
     fusion::EpochMeasurements measurements{in.displacement_m, in.beacon, {}};
     if (in.csi) measurements.csi.push_back(*in.csi);
-    const fusion::EpochEstimate est = k == 0 ? uavs_[m].start(std::move(measurements))
-                                             : uavs_[m].step(std::move(measurements));
+    const fusion::EpochEstimate est =
+        k == 0 ? uavs_[m].start(std::move(measurements)) : uavs_[m].step(std::move(measurements));
     filtered = est.filter_belief;
     belief = est.belief;
     z = est.beacon;
@@ -252,7 +251,8 @@ std::vector<std::pair<std::string, std::string>> replay_summary_rows(const Missi
   std::vector<std::pair<std::string, std::string>> s = {
       {"estimator", r.estimator},
       {"log", log.ours ? "losmimo" : "foreign"},
-      {"complete", log.complete || (!log.ours && log.read_status.stop == rawlog_io::RawlogStop::kEnd) ? "true" : "false"},
+      {"complete",
+       log.complete || (!log.ours && log.read_status.stop == rawlog_io::RawlogStop::kEnd) ? "true" : "false"},
       {"uavs", std::to_string(log.num_uavs)},
       {"epochs", std::to_string(log.epochs.size())},
       {"rmse_m", common::format_csv(r.rmse_m)},
@@ -321,12 +321,14 @@ void write_replay_csv(const MissionLog& log, const ReplayResult& r, const std::s
     for (const ReplayUavEpoch& e : r.estimates) {
       const Eigen::Vector3d& q = e.belief.mean_m;
       const Eigen::Vector3d t = e.has_truth ? e.truth_m : Eigen::Vector3d::Constant(kNan);
-      f << e.epoch << "," << e.uav << "," << common::format_csv(t.x()) << "," << common::format_csv(t.y()) << "," << common::format_csv(t.z()) << ","
-        << common::format_csv(q.x()) << "," << common::format_csv(q.y()) << "," << common::format_csv(q.z()) << ","
-        << common::format_csv(std::sqrt(e.belief.cov_m2(0, 0))) << "," << common::format_csv(std::sqrt(e.belief.cov_m2(1, 1))) << ","
+      f << e.epoch << "," << e.uav << "," << common::format_csv(t.x()) << "," << common::format_csv(t.y()) << ","
+        << common::format_csv(t.z()) << "," << common::format_csv(q.x()) << "," << common::format_csv(q.y()) << ","
+        << common::format_csv(q.z()) << "," << common::format_csv(std::sqrt(e.belief.cov_m2(0, 0))) << ","
+        << common::format_csv(std::sqrt(e.belief.cov_m2(1, 1))) << ","
         << common::format_csv(std::sqrt(e.belief.cov_m2(2, 2))) << ","
-        << (e.has_truth ? common::format_csv(e.error_m) : "nan") << "," << (e.has_truth ? common::format_csv(e.lateral_error_m) : "nan")
-        << "," << (e.has_truth ? common::format_csv(e.nees) : "nan") << "," << (e.belief.degraded ? 1 : 0) << ","
+        << (e.has_truth ? common::format_csv(e.error_m) : "nan") << ","
+        << (e.has_truth ? common::format_csv(e.lateral_error_m) : "nan") << ","
+        << (e.has_truth ? common::format_csv(e.nees) : "nan") << "," << (e.belief.degraded ? 1 : 0) << ","
         << (e.has_beacon ? 1 : 0) << "\n";
     }
     if (!f) throw std::runtime_error((d / "estimates.csv").string() + ": write failed");
@@ -336,10 +338,12 @@ void write_replay_csv(const MissionLog& log, const ReplayResult& r, const std::s
     f << "epoch,final,icn,icn_estimated,sinr_nv_db,sinr_zf_db,sinr_mf_db,sum_rate_zf_bps_hz,rmse_m,"
          "lateral_rmse_m,mean_nees,fallback_uavs,beacons\n";
     for (const ReplayEpochMetrics& e : r.epochs) {
-      f << e.epoch << "," << (e.final_positions ? 1 : 0) << "," << common::format_csv(e.icn) << "," << common::format_csv(e.icn_estimated)
-        << "," << common::format_csv(e.sinr_nv_db) << "," << common::format_csv(e.sinr_zf_db) << "," << common::format_csv(e.sinr_mf_db) << ","
-        << common::format_csv(e.sum_rate_zf_bps_hz) << "," << common::format_csv(e.rmse_m) << "," << common::format_csv(e.lateral_rmse_m) << ","
-        << common::format_csv(e.mean_nees) << "," << e.fallback_uavs << "," << e.beacons << "\n";
+      f << e.epoch << "," << (e.final_positions ? 1 : 0) << "," << common::format_csv(e.icn) << ","
+        << common::format_csv(e.icn_estimated) << "," << common::format_csv(e.sinr_nv_db) << ","
+        << common::format_csv(e.sinr_zf_db) << "," << common::format_csv(e.sinr_mf_db) << ","
+        << common::format_csv(e.sum_rate_zf_bps_hz) << "," << common::format_csv(e.rmse_m) << ","
+        << common::format_csv(e.lateral_rmse_m) << "," << common::format_csv(e.mean_nees) << "," << e.fallback_uavs
+        << "," << e.beacons << "\n";
     }
     if (!f) throw std::runtime_error((d / "epochs.csv").string() + ": write failed");
   }

@@ -31,7 +31,8 @@ localization::BeaconMap parse_beacon_list(const std::string& text, const std::st
     Eigen::Vector3d p;
     for (int k = 0; k < 3; ++k) {
       p(k) = common::parse_double(cols[k + 1], at, kNames[k + 1]);
-      if (!std::isfinite(p(k))) throw common::InputError(at + ": " + kNames[k + 1] + " '" + cols[k + 1] + "' is not finite");
+      if (!std::isfinite(p(k)))
+        throw common::InputError(at + ": " + kNames[k + 1] + " '" + cols[k + 1] + "' is not finite");
     }
     if (map.find(static_cast<std::int32_t>(id))) {
       throw common::InputError(at + ": ID " + cols[0] + " listed twice");

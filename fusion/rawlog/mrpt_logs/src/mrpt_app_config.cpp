@@ -98,7 +98,8 @@ MrptAppConfig read_mrpt_app_config(const std::string& path) {
       std::snprintf(prefix, sizeof prefix, "beacon_%03lld_", q);
       const std::string p(prefix);
       const auto id = r.integer(kCreation, p + "ID", 0, 2147483647LL);
-      if (!id) throw common::InputError(r.where(kCreation, p + "ID") + ": missing (nBeacons = " + std::to_string(*n) + ")");
+      if (!id)
+        throw common::InputError(r.where(kCreation, p + "ID") + ": missing (nBeacons = " + std::to_string(*n) + ")");
       const Eigen::Vector3d xyz(r.required(kCreation, p + "X"), r.required(kCreation, p + "Y"),
                                 r.number(kCreation, p + "Z").value_or(0.0));
       if (c.beacons.find(static_cast<std::int32_t>(*id))) {
@@ -108,7 +109,8 @@ MrptAppConfig read_mrpt_app_config(const std::string& path) {
     }
   }
   if (const auto s = r.number(kLikelihood, "beaconRangesStd")) {
-    if (!(*s > 0.0)) throw common::InputError(r.where(kLikelihood, "beaconRangesStd") + " = " + std::to_string(*s) + ": must be > 0");
+    if (!(*s > 0.0))
+      throw common::InputError(r.where(kLikelihood, "beaconRangesStd") + " = " + std::to_string(*s) + ": must be > 0");
     c.range_sigma_m = *s;
   }
   if (const auto u = r.integer(kLikelihood, "beaconRangesUseObservationStd", 0, 1)) c.use_observation_std = *u == 1;
@@ -141,8 +143,10 @@ MrptAppConfig read_mrpt_app_config(const std::string& path) {
     c.prior = box;
   }
   if (const auto gt = r.text("ro-localization", "groundTruthFile")) c.ground_truth_file = resolve(*gt, path);
-  if (const auto log = r.text("ro-localization", "rawlog_file")) c.rawlog_file = resolve(*log, path);
-  else if (const auto log2 = r.text(kExp, "rawlog_file")) c.rawlog_file = resolve(*log2, path);
+  if (const auto log = r.text("ro-localization", "rawlog_file"))
+    c.rawlog_file = resolve(*log, path);
+  else if (const auto log2 = r.text(kExp, "rawlog_file"))
+    c.rawlog_file = resolve(*log2, path);
   c.unused_keys = r.unused();
   return c;
 }
@@ -161,7 +165,8 @@ std::vector<Eigen::Vector3d> read_relative_ground_truth(const std::string& path)
     while (cols.size() < 4 && in >> c) cols.push_back(c);
     if (cols.empty() || cols[0][0] == '#' || cols[0][0] == '%') continue;
     const std::string at = path + ":" + std::to_string(line_no);
-    if (cols.size() < 4) throw common::InputError(at + ": expected 'k x y phi', got " + std::to_string(cols.size()) + " column(s)");
+    if (cols.size() < 4)
+      throw common::InputError(at + ": expected 'k x y phi', got " + std::to_string(cols.size()) + " column(s)");
     rows.emplace_back(common::parse_double(cols[1], at, "x"), common::parse_double(cols[2], at, "y"),
                       common::parse_double(cols[3], at, "phi"));
   }

@@ -24,9 +24,7 @@ using localization::OdometryIncrement;
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
-double seconds_of(const mrpt::Clock::time_point& t) {
-  return t == INVALID_TIMESTAMP ? kNan : mrpt::Clock::toDouble(t);
-}
+double seconds_of(const mrpt::Clock::time_point& t) { return t == INVALID_TIMESTAMP ? kNan : mrpt::Clock::toDouble(t); }
 
 // u1 (+) u2 with the covariance of the header.
 OdometryIncrement chain(const OdometryIncrement& u1, const OdometryIncrement& u2) {
@@ -47,8 +45,8 @@ localization::BeaconRangeScan scan_of(const mrpt::obs::CObservationBeaconRanges&
     localization::BeaconRange r;
     r.beacon_id = m.beaconID;
     r.range_m = m.sensedDistance;
-    r.sensor_on_robot_m = Eigen::Vector3d(m.sensorLocationOnRobot.x(), m.sensorLocationOnRobot.y(),
-                                          m.sensorLocationOnRobot.z());
+    r.sensor_on_robot_m =
+        Eigen::Vector3d(m.sensorLocationOnRobot.x(), m.sensorLocationOnRobot.y(), m.sensorLocationOnRobot.z());
     scan.ranges.push_back(r);
   }
   return scan;
@@ -121,8 +119,8 @@ class Loader {
     const std::string name = a.GetRuntimeClass()->className;
     if (const auto* m3 = dynamic_cast<const mrpt::obs::CActionRobotMovement3D*>(&a)) {
       const auto& p = m3->poseChange.mean;
-      add_increment(localization::odometry_3d(Eigen::Vector4d(p.x(), p.y(), p.z(), p.yaw()),
-                                              m3->poseChange.cov.asEigen()));
+      add_increment(
+          localization::odometry_3d(Eigen::Vector4d(p.x(), p.y(), p.z(), p.yaw()), m3->poseChange.cov.asEigen()));
       ++log_.used[name];
     } else if (const auto* m2 = dynamic_cast<const mrpt::obs::CActionRobotMovement2D*>(&a); m2 && m2->poseChange) {
       mrpt::math::CMatrixDouble33 cov;

@@ -38,8 +38,9 @@ std::vector<std::string> write_range_plot(const RangeReplayResult& result, const
     f << "set terminal pngcairo size 900,800\nset output 'track.png'\nset datafile separator ','\n"
          "set size ratio -1\nset key outside bottom center horizontal\nset grid\n"
          "set xlabel 'x [m]'\nset ylabel 'y [m]'\n"
-         "set title 'losmimo-replay (" << result.estimator << "): estimate, dead reckoning"
-      << (result.truth_frames ? ", ground truth" : "") << ", beacons, 2-sigma ellipses'\n"
+         "set title 'losmimo-replay ("
+      << result.estimator << "): estimate, dead reckoning" << (result.truth_frames ? ", ground truth" : "")
+      << ", beacons, 2-sigma ellipses'\n"
       << "plot 'track.csv' skip 1 using 3:4 with lines lw 2 lc rgb '#1f77b4' title 'estimate', \\\n"
          "     'track.csv' skip 1 using 16:17 with lines dt 2 lc rgb '#7f7f7f' title 'dead reckoning', \\\n";
     if (result.truth_frames) {

@@ -24,7 +24,6 @@ using namespace localization;
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 constexpr double kPi = 3.14159265358979323846;
 
-
 PoseBox beacon_box(const BeaconMap& beacons) {
   PoseBox box;
   box.min = Eigen::Vector4d::Constant(std::numeric_limits<double>::infinity());
@@ -43,13 +42,13 @@ PoseBox beacon_box(const BeaconMap& beacons) {
 std::string describe(const PosePrior& prior) {
   std::ostringstream s;
   if (const auto* box = std::get_if<PoseBox>(&prior)) {
-    s << "uniform x [" << box->min(0) << ", " << box->max(0) << "] y [" << box->min(1) << ", " << box->max(1)
-      << "] z [" << box->min(2) << ", " << box->max(2) << "] yaw [" << box->min(3) << ", " << box->max(3) << "] rad";
+    s << "uniform x [" << box->min(0) << ", " << box->max(0) << "] y [" << box->min(1) << ", " << box->max(1) << "] z ["
+      << box->min(2) << ", " << box->max(2) << "] yaw [" << box->min(3) << ", " << box->max(3) << "] rad";
   } else {
     const auto& g = std::get<PoseBelief>(prior);
     s << "Gaussian mean (" << g.mean(0) << ", " << g.mean(1) << ", " << g.mean(2) << ", " << g.mean(3)
-      << " rad) sigma (" << std::sqrt(g.cov(0, 0)) << ", " << std::sqrt(g.cov(1, 1)) << ", "
-      << std::sqrt(g.cov(2, 2)) << ", " << std::sqrt(g.cov(3, 3)) << " rad)";
+      << " rad) sigma (" << std::sqrt(g.cov(0, 0)) << ", " << std::sqrt(g.cov(1, 1)) << ", " << std::sqrt(g.cov(2, 2))
+      << ", " << std::sqrt(g.cov(3, 3)) << " rad)";
   }
   return s.str();
 }
@@ -88,8 +87,8 @@ std::pair<double, double> error_and_nees(const PoseBelief& belief, const Eigen::
 double rms(double sum_sq, std::int64_t n) { return n ? std::sqrt(sum_sq / static_cast<double>(n)) : kNan; }
 
 // The smoother over the filter's frames (header: Refinement); fills the rows' refined fields.
-void refine(const RangeLog& log, const BeaconMap& beacons, const RangeReplayOptions& options,
-            bool start_fix, std::vector<fusion::SmootherFrame> frames, RangeReplayResult& out) {
+void refine(const RangeLog& log, const BeaconMap& beacons, const RangeReplayOptions& options, bool start_fix,
+            std::vector<fusion::SmootherFrame> frames, RangeReplayResult& out) {
   const auto t0 = std::chrono::steady_clock::now();
   out.smoother = fusion::smooth_range_track(options.config, beacons, frames, *options.refine);
   out.refine_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -100,8 +99,8 @@ void refine(const RangeLog& log, const BeaconMap& beacons, const RangeReplayOpti
   for (std::size_t k = 0; k < out.track.size(); ++k) {
     RangeTrackRow& row = out.track[k];
     row.refined = out.smoother.track[k];
-    post_fit(log.frames[k], beacons, options.config, row.innovations, row.refined->mean,
-             k == 0 && start_fix, row.refined_residual_sum_sq_m2);
+    post_fit(log.frames[k], beacons, options.config, row.innovations, row.refined->mean, k == 0 && start_fix,
+             row.refined_residual_sum_sq_m2);
     res_sq += row.refined_residual_sum_sq_m2;
     if (row.step >= options.settle_steps) res_sq_settled += row.refined_residual_sum_sq_m2;
     if (row.has_truth) {
@@ -226,8 +225,8 @@ std::string no_range_fused(const FilterCounters& c) {
   return "no range was fused: " + std::to_string(c.ranges_received) + " received, rejected: unknown beacon " +
          std::to_string(c.rejected_unknown_beacon) + ", outside sensor limits " +
          std::to_string(c.rejected_outside_sensor_limits) + ", non-finite " +
-         std::to_string(c.rejected_non_finite_range) + ", implausible " +
-         std::to_string(c.rejected_implausible_range) + ", gate " + std::to_string(c.rejected_range_gate);
+         std::to_string(c.rejected_non_finite_range) + ", implausible " + std::to_string(c.rejected_implausible_range) +
+         ", gate " + std::to_string(c.rejected_range_gate);
 }
 
 // The summary figures over the track (innovations, residuals, errors against the truth).
@@ -299,8 +298,9 @@ void write_range_readings_csv(const RangeLog& log, const std::string& path) {
   for (const RangeFrame& fr : log.frames)
     for (const BeaconRangeScan& s : fr.scans)
       for (const BeaconRange& r : s.ranges) {
-        f << fr.step << "," << r.beacon_id << "," << common::format_csv(r.range_m) << "," << common::format_csv(r.sensor_on_robot_m.x()) << ","
-          << common::format_csv(r.sensor_on_robot_m.y()) << "," << common::format_csv(r.sensor_on_robot_m.z()) << "," << common::format_csv(s.std_error_m) << "\n";
+        f << fr.step << "," << r.beacon_id << "," << common::format_csv(r.range_m) << ","
+          << common::format_csv(r.sensor_on_robot_m.x()) << "," << common::format_csv(r.sensor_on_robot_m.y()) << ","
+          << common::format_csv(r.sensor_on_robot_m.z()) << "," << common::format_csv(s.std_error_m) << "\n";
       }
   if (!f) throw std::runtime_error(path + ": write failed");
 }
@@ -309,7 +309,8 @@ void write_range_track_csv(const RangeReplayResult& result, const std::string& p
   std::ofstream f(path);
   if (!f) throw std::runtime_error(path + ": cannot write");
   f << "step,timestamp_s,x_m,y_m,z_m,heading_rad,var_x_m2,var_y_m2,var_z_m2,var_heading_rad2,ranges,fused,"
-       "innovation_rms_m,nis,residual_rms_m,dr_x_m,dr_y_m,dr_z_m,dr_heading_rad,gt_x_m,gt_y_m,gt_heading_rad,error_m,nees,dr_error_m";
+       "innovation_rms_m,nis,residual_rms_m,dr_x_m,dr_y_m,dr_z_m,dr_heading_rad,gt_x_m,gt_y_m,gt_heading_rad,error_m,"
+       "nees,dr_error_m";
   if (result.refined) {
     f << ",refined_x_m,refined_y_m,refined_z_m,refined_heading_rad,refined_var_x_m2,refined_var_y_m2,refined_var_z_m2,"
          "refined_var_heading_rad2,refined_residual_rms_m,refined_error_m,refined_nees";
@@ -319,35 +320,38 @@ void write_range_track_csv(const RangeReplayResult& result, const std::string& p
     const auto& m = r.belief.mean;
     const auto& P = r.belief.cov;
     const int n = r.innovations.fused;
-    f << r.step << "," << common::format_g(r.timestamp_s, common::kExactDigits) << "," << common::format_csv(m(0)) << ","
-      << common::format_csv(m(1)) << "," << common::format_csv(m(2)) << "," << common::format_csv(m(3)) << "," << common::format_csv(P(0, 0)) << "," << common::format_csv(P(1, 1)) << ","
-      << common::format_csv(P(2, 2)) << "," << common::format_csv(P(3, 3)) << "," << r.ranges << "," << n << ","
+    f << r.step << "," << common::format_g(r.timestamp_s, common::kExactDigits) << "," << common::format_csv(m(0))
+      << "," << common::format_csv(m(1)) << "," << common::format_csv(m(2)) << "," << common::format_csv(m(3)) << ","
+      << common::format_csv(P(0, 0)) << "," << common::format_csv(P(1, 1)) << "," << common::format_csv(P(2, 2)) << ","
+      << common::format_csv(P(3, 3)) << "," << r.ranges << "," << n << ","
       << (n ? common::format_csv(std::sqrt(r.innovations.sum_sq_m2 / n)) : "nan") << ","
       << (n ? common::format_csv(r.innovations.nis_sum / n) : "nan") << ","
       << (r.residuals ? common::format_csv(std::sqrt(r.residual_sum_sq_m2 / r.residuals)) : "nan") << ","
-      << common::format_csv(r.dead_reckoning(0)) << "," << common::format_csv(r.dead_reckoning(1)) << "," << common::format_csv(r.dead_reckoning(2)) << ","
-      << common::format_csv(r.dead_reckoning(3));
+      << common::format_csv(r.dead_reckoning(0)) << "," << common::format_csv(r.dead_reckoning(1)) << ","
+      << common::format_csv(r.dead_reckoning(2)) << "," << common::format_csv(r.dead_reckoning(3));
     if (r.has_truth) {
-      f << "," << common::format_csv(r.truth(0)) << "," << common::format_csv(r.truth(1)) << "," << common::format_csv(r.truth(2)) << "," << common::format_csv(r.error_m) << ","
-        << common::format_csv(r.nees) << "," << common::format_csv(r.dr_error_m);
+      f << "," << common::format_csv(r.truth(0)) << "," << common::format_csv(r.truth(1)) << ","
+        << common::format_csv(r.truth(2)) << "," << common::format_csv(r.error_m) << "," << common::format_csv(r.nees)
+        << "," << common::format_csv(r.dr_error_m);
     } else {
       f << ",nan,nan,nan,nan,nan,nan";
     }
     if (r.refined) {
       const auto& rm = r.refined->mean;
       const auto& rP = r.refined->cov;
-      f << "," << common::format_csv(rm(0)) << "," << common::format_csv(rm(1)) << "," << common::format_csv(rm(2)) << "," << common::format_csv(rm(3)) << "," << common::format_csv(rP(0, 0))
-        << "," << common::format_csv(rP(1, 1)) << "," << common::format_csv(rP(2, 2)) << "," << common::format_csv(rP(3, 3)) << ","
-        << (r.residuals ? common::format_csv(std::sqrt(r.refined_residual_sum_sq_m2 / r.residuals)) : "nan") << ","
-        << (r.has_truth ? common::format_csv(r.refined_error_m) : "nan") << "," << (r.has_truth ? common::format_csv(r.refined_nees) : "nan");
+      f << "," << common::format_csv(rm(0)) << "," << common::format_csv(rm(1)) << "," << common::format_csv(rm(2))
+        << "," << common::format_csv(rm(3)) << "," << common::format_csv(rP(0, 0)) << ","
+        << common::format_csv(rP(1, 1)) << "," << common::format_csv(rP(2, 2)) << "," << common::format_csv(rP(3, 3))
+        << "," << (r.residuals ? common::format_csv(std::sqrt(r.refined_residual_sum_sq_m2 / r.residuals)) : "nan")
+        << "," << (r.has_truth ? common::format_csv(r.refined_error_m) : "nan") << ","
+        << (r.has_truth ? common::format_csv(r.refined_nees) : "nan");
     }
     f << "\n";
   }
   if (!f) throw std::runtime_error(path + ": write failed");
 }
 
-std::vector<std::pair<std::string, std::string>> range_summary_rows(const RangeLog& log,
-                                                                    const RangeReplayResult& r) {
+std::vector<std::pair<std::string, std::string>> range_summary_rows(const RangeLog& log, const RangeReplayResult& r) {
   const FilterCounters& c = r.counters;
   const auto i = [](std::int64_t v) { return std::to_string(v); };
   std::vector<std::pair<std::string, std::string>> rows = {
@@ -380,19 +384,20 @@ std::vector<std::pair<std::string, std::string>> range_summary_rows(const RangeL
   };
   if (r.refined) {
     const fusion::RangeSmootherResult& sm = r.smoother;
-    rows.insert(rows.end(), {
-        {"refinement", r.refine_mode},
-        {"refined_residual_rms_m", common::format_csv(r.refined_residual_rms_m)},
-        {"refined_residual_rms_settled_m", common::format_csv(r.refined_residual_rms_settled_m)},
-        {"refined_rmse_xy_m", common::format_csv(r.refined_rmse_m)},
-        {"refined_mean_nees_xy", common::format_csv(r.refined_mean_nees)},
-        {"refined_ranges_used", i(sm.ranges_used)},
-        {"refined_ranges_down_weighted", i(sm.ranges_down_weighted)},
-        {"refined_problems", std::to_string(sm.problems)},
-        {"refined_not_converged", std::to_string(sm.not_converged)},
-        {"refined_iterations", i(sm.iterations)},
-        {"refined_covariance_fallbacks", std::to_string(sm.covariance_fallbacks)},
-    });
+    rows.insert(rows.end(),
+                {
+                    {"refinement", r.refine_mode},
+                    {"refined_residual_rms_m", common::format_csv(r.refined_residual_rms_m)},
+                    {"refined_residual_rms_settled_m", common::format_csv(r.refined_residual_rms_settled_m)},
+                    {"refined_rmse_xy_m", common::format_csv(r.refined_rmse_m)},
+                    {"refined_mean_nees_xy", common::format_csv(r.refined_mean_nees)},
+                    {"refined_ranges_used", i(sm.ranges_used)},
+                    {"refined_ranges_down_weighted", i(sm.ranges_down_weighted)},
+                    {"refined_problems", std::to_string(sm.problems)},
+                    {"refined_not_converged", std::to_string(sm.not_converged)},
+                    {"refined_iterations", i(sm.iterations)},
+                    {"refined_covariance_fallbacks", std::to_string(sm.covariance_fallbacks)},
+                });
   }
   rows.push_back({"other_classes_skipped", describe_counts(log.skipped)});
   rows.push_back({"trailing_actions", i(log.trailing_actions)});

@@ -87,8 +87,10 @@ void validate(const FilterConfig& config);
 template <class Base, class Ekf, class Particle, class... Args>
 std::unique_ptr<Base> make_filter_of_kind(FilterKind kind, std::uint64_t seed, const Args&... args) {
   switch (kind) {
-    case FilterKind::kEkf: return std::make_unique<Ekf>(args...);
-    case FilterKind::kParticle: return std::make_unique<Particle>(args..., seed);
+    case FilterKind::kEkf:
+      return std::make_unique<Ekf>(args...);
+    case FilterKind::kParticle:
+      return std::make_unique<Particle>(args..., seed);
   }
   throw std::invalid_argument("localization: unknown filter kind");
 }

@@ -42,8 +42,8 @@ struct FilterCounters {
            rejected_implausible_range + rejected_range_geometry + rejected_range_gate;
   }
   std::int64_t rejected_total() const {
-    return rejected_non_finite_displacement + rejected_non_finite_beacon +
-           rejected_out_of_range_beacon + rejected_geometry + rejected_gate + rejected_ranges();
+    return rejected_non_finite_displacement + rejected_non_finite_beacon + rejected_out_of_range_beacon +
+           rejected_geometry + rejected_gate + rejected_ranges();
   }
 
   // Field by field: the counts of several filter runs (e.g. a start fix and the filter after it).

@@ -30,8 +30,7 @@ namespace losmimo::localization {
 std::vector<double> normalized_weights(const std::vector<double>& log_weights);
 
 // N = log_weights.size() indices. Throws std::invalid_argument on an empty input.
-std::vector<std::size_t> resampling_indices(ResamplingMethod method,
-                                            const std::vector<double>& log_weights,
+std::vector<std::size_t> resampling_indices(ResamplingMethod method, const std::vector<double>& log_weights,
                                             mrpt::random::CRandomGenerator& rng);
 
 // Effective sample size over N, in (0, 1]: 1 / (N sum w_i^2).

@@ -27,7 +27,7 @@
 namespace losmimo::placement {
 
 enum class ProbeActuation { kEveryLeg, kKeptMoveOnly };
-std::string to_string(ProbeActuation mode);  // "every_leg", "kept_move_only"
+std::string to_string(ProbeActuation mode);                           // "every_leg", "kept_move_only"
 ProbeActuation probe_actuation_from_string(const std::string& name);  // std::invalid_argument
 
 struct BfOptions {
@@ -65,8 +65,7 @@ class BruteForcePlanner : public Planner {
   void iterate(Swarm& swarm, int iteration) override;
   // Probes and moves one UAV with step b (metres): it moves by b bf_probe_direction(z) for the
   // probe z of least measured f, and returns z (0: it stays).
-  static int step_uav(Swarm& swarm, int m, double b,
-                      ProbeActuation probe_actuation = ProbeActuation::kEveryLeg);
+  static int step_uav(Swarm& swarm, int m, double b, ProbeActuation probe_actuation = ProbeActuation::kEveryLeg);
 
  private:
   bool try_escape(Swarm& swarm);

@@ -56,7 +56,7 @@
 namespace losmimo::placement {
 
 enum class CapPower { kEqual, kWaterfill };
-std::string to_string(CapPower power);              // "equal", "waterfill"
+std::string to_string(CapPower power);                    // "equal", "waterfill"
 CapPower cap_power_from_string(const std::string& name);  // std::invalid_argument for others
 
 // Water-filling powers for mode gains g_i >= 0 (SNR per unit power): p_i = max(0, mu - 1 / g_i),

@@ -35,8 +35,7 @@ class ChannelModel {
   // d row(k) / d q = row(k) * s_k * u_k^T with u_k the unit vector from antenna k to q and
   // s_k = -j 2 pi / lambda (far field) or -j 2 pi / lambda - 1 / d_k (exact gain).
   // Returns s (length Nt) and U (3 x Nt, the u_k) for a UAV at q_m.
-  void row_derivative_terms(const Eigen::Vector3d& q_m, Eigen::VectorXcd& s,
-                            Eigen::Matrix3Xd& U) const;
+  void row_derivative_terms(const Eigen::Vector3d& q_m, Eigen::VectorXcd& s, Eigen::Matrix3Xd& U) const;
 
   const Eigen::Matrix3Xd& antennas_m() const { return antennas_m_; }
   int num_antennas() const { return static_cast<int>(antennas_m_.cols()); }

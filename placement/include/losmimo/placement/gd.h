@@ -81,8 +81,7 @@ class GradientDescentPlanner : public Planner {
   std::optional<Eigen::Matrix3Xd> believed_positions() const override;
 
   // The move UAV m would command from believed position q_hat_m (exposed for tests).
-  Eigen::Vector3d plan_move(const Swarm& swarm, int m, const Eigen::Vector3d& q_hat_m,
-                            int iteration) const;
+  Eigen::Vector3d plan_move(const Swarm& swarm, int m, const Eigen::Vector3d& q_hat_m, int iteration) const;
 
  private:
   // plan_move with the iteration's base step b = step * decay^(iteration - 1).

@@ -73,27 +73,27 @@ struct Kernels {
   // The channel row at q_m into (xr, xi).
   void (*row)(const RowGeometry& g, const double q_m[3], double* xr, double* xi);
   // The rows at kLanes positions (px[p], py[p], pz[p]) into the lanes layout (ld x kLanes).
-  void (*rows_lanes)(const RowGeometry& g, const double* px_m, const double* py_m, const double* pz_m,
-                     double* Xr, double* Xi);
+  void (*rows_lanes)(const RowGeometry& g, const double* px_m, const double* py_m, const double* pz_m, double* Xr,
+                     double* Xi);
   // F_A = sum_{l != k} |A_lk|^2 for the row o = (or_, oi).
   double (*leave_one_out_energy)(const GramPlanes& G, const double* or_, const double* oi);
   // f of each of the kLanes rows of (Xr, Xi) in place of o (the triangle form above, F_A from
   // the same pass over M's triangle).
-  void (*objectives_lanes)(const GramPlanes& G, const double* or_, const double* oi, const double* Xr,
-                           const double* Xi, double* f);
+  void (*objectives_lanes)(const GramPlanes& G, const double* or_, const double* oi, const double* Xr, const double* Xi,
+                           double* f);
   // f of one row x in place of o (the full Hermitian form, one matrix-vector product).
-  double (*objective_of_row)(const GramPlanes& G, const double* or_, const double* oi, double F_A,
-                             const double* xr, const double* xi);
+  double (*objective_of_row)(const GramPlanes& G, const double* or_, const double* oi, double F_A, const double* xr,
+                             const double* xi);
   // f of the row at q_m: row + objective_of_row, the same bits.
-  double (*objective_at)(const RowGeometry& g, const GramPlanes& G, const double* or_, const double* oi,
-                         double F_A, const double q_m[3]);
+  double (*objective_at)(const RowGeometry& g, const GramPlanes& G, const double* or_, const double* oi, double F_A,
+                         const double q_m[3]);
   // grad f at q_m into grad[3] (swarm_channel.h); returns f at q_m, bit for bit objective_at's.
-  double (*gradient)(const RowGeometry& g, const GramPlanes& G, const double* or_, const double* oi,
-                     double F_A, const double q_m[3], double* grad);
+  double (*gradient)(const RowGeometry& g, const GramPlanes& G, const double* or_, const double* oi, double F_A,
+                     const double q_m[3], double* grad);
   // G += conj(x) x^T - conj(o) o^T over the whole matrix: entry (k, l) gets exactly the
   // conjugate of entry (l, k), so G stays Hermitian bit for bit. G must not overlap x or o.
-  void (*gram_update)(double* G_re, double* G_im, int n, int ld, const double* xr, const double* xi,
-                      const double* or_, const double* oi);
+  void (*gram_update)(double* G_re, double* G_im, int n, int ld, const double* xr, const double* xi, const double* or_,
+                      const double* oi);
   // G = sum_m conj(h_m) h_m^T of the nr rows h_m = (Hr + m ld, Hi + m ld), the whole n x n
   // matrix, each entry summed in row order (m = 0 first): entry (k, l) is exactly the
   // conjugate of entry (l, k). For a swarm whose every row changed (no rank updates).

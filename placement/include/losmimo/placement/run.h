@@ -94,7 +94,7 @@ inline constexpr common::Range noise_variance = common::Range::above(0.0);
 void validate(const RunOptions& options);
 
 struct IterationRecord {
-  int iteration = 0;  // 0 is the start
+  int iteration = 0;     // 0 is the start
   double icn = 0.0;      // of the master's Gram matrix (measured CSI): the stop test's
   double icn_los = 0.0;  // of the LoS channel at the true positions: the milestones' (= icn
                          // without channel conditions)
@@ -136,9 +136,7 @@ struct RunResult {
   // start_m; without a fault the last is final_m), one 3 x Nr matrix each; empty otherwise.
   std::vector<Eigen::Matrix3Xd> path;
   bool converged() const { return status == RunStatus::kConverged; }
-  bool faulted() const {
-    return status == RunStatus::kUavUnresponsive || status == RunStatus::kNumericalFault;
-  }
+  bool faulted() const { return status == RunStatus::kUavUnresponsive || status == RunStatus::kNumericalFault; }
 };
 
 // Runs the planner until the ICN reaches the target, the iteration cap, or a fault. Health,

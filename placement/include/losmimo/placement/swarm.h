@@ -77,8 +77,7 @@ struct SwarmFault {
 
 class Swarm {
  public:
-  Swarm(const ChannelModel& model, const Eigen::Matrix3Xd& start_m, const ErrorModel& errors,
-        std::uint64_t seed);
+  Swarm(const ChannelModel& model, const Eigen::Matrix3Xd& start_m, const ErrorModel& errors, std::uint64_t seed);
 
   int num_uavs() const { return static_cast<int>(q_m_.cols()); }
   const Eigen::Matrix3Xd& true_positions_m() const { return q_m_; }
@@ -136,7 +135,6 @@ class Swarm {
   // A different localization source (e.g. a filter's belief) replaces the Gaussian model.
   using PositionEstimator = std::function<Eigen::Vector3d(int m, const Eigen::Vector3d& true_q_m)>;
   void set_position_estimator(PositionEstimator estimator) { estimator_ = std::move(estimator); }
-
 
  private:
   // sigma times the next three numbers of the stream (zero, drawing nothing, if sigma is 0).

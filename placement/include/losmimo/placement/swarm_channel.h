@@ -72,9 +72,9 @@ class SwarmChannel {
   GramSide side_;
   int ld_;
   Eigen::MatrixXcd H_;
-  std::vector<double> row_re_, row_im_;  // H's rows, ld apart (pads 0)
+  std::vector<double> row_re_, row_im_;    // H's rows, ld apart (pads 0)
   std::vector<double> gram_re_, gram_im_;  // G, ld x Nt, column-major (pad rows 0)
-  mutable Eigen::MatrixXcd gram_;           // gram()'s copy
+  mutable Eigen::MatrixXcd gram_;          // gram()'s copy
   mutable bool gram_stale_ = true;
   int updates_since_refresh_ = 0;
   std::uint64_t version_ = 0;
@@ -89,8 +89,8 @@ class SwarmChannel {
 };
 
 // What UAV m sees while the others stay put: the leave-one-out Gram matrix A, and f and
-// grad f as functions of its own row or position (on the UAV side: the others' rows, see above). Built in O(1): it reads the swarm's channel,
-// which must not change while the view is used (std::logic_error if it has: build a new view
+// grad f as functions of its own row or position (on the UAV side: the others' rows, see above). Built in O(1): it
+// reads the swarm's channel, which must not change while the view is used (std::logic_error if it has: build a new view
 // after any move).
 class UavObjective {
  public:

@@ -47,8 +47,8 @@ enum class UraVariant { kRigid, kLattice, kLatticeExact };
 
 enum class UraDepth { kPlane, kOwn };
 enum class UraRetry { kEveryIteration, kOnce, kAverage };
-std::string to_string(UraDepth depth);  // "plane", "own"
-std::string to_string(UraRetry retry);  // "every_iteration", "once", "average"
+std::string to_string(UraDepth depth);                    // "plane", "own"
+std::string to_string(UraRetry retry);                    // "every_iteration", "once", "average"
 UraDepth ura_depth_from_string(const std::string& name);  // std::invalid_argument for others
 UraRetry ura_retry_from_string(const std::string& name);
 
@@ -93,9 +93,9 @@ class UraPlanner : public Planner {
   UraVariant variant_;
   UraOptions options_;
   Eigen::Matrix3Xd targets_m_;
-  bool commanded_ = false;           // iterate() has run
-  Eigen::Matrix3Xd start_sum_m_;     // kAverage: sum of the start estimates
-  Eigen::Matrix3Xd commanded_sum_m_; // kAverage: sum of the moves commanded
+  bool commanded_ = false;            // iterate() has run
+  Eigen::Matrix3Xd start_sum_m_;      // kAverage: sum of the start estimates
+  Eigen::Matrix3Xd commanded_sum_m_;  // kAverage: sum of the moves commanded
   int estimates_ = 0;
 };
 

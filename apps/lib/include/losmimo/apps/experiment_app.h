@@ -27,8 +27,8 @@ struct ExperimentOptions {
   std::string config_path;
   std::vector<std::string> overrides;
   std::optional<std::string> out_dir;  // not given: "results"
-  int trials = 0;    // > 0 overrides [experiment] trials
-  int threads = -1;  // >= 0 overrides [experiment] threads
+  int trials = 0;                      // > 0 overrides [experiment] trials
+  int threads = -1;                    // >= 0 overrides [experiment] threads
   // "i/N": run shard i of N into out_dir (config.ini, records.csv and a manifest saying so) for
   // `losmimo-experiment merge`; not given: everything.
   std::optional<std::string> shard;

@@ -24,5 +24,4 @@ struct RecordAppOptions {
 };
 int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostream& err);
 
-
 }  // namespace losmimo::apps

@@ -20,10 +20,10 @@ struct ReplayAppOptions {
   std::string estimator;  // "", "ekf" or "pf"
   bool refine = false;
   bool no_refine = false;
-  std::string out_dir;    // empty: summary to stdout only (unless out_given: then an error)
-  bool strict = false;    // stop at classes the reader cannot bound, no sandbox (RawlogReaderOptions)
-  bool replace = false;   // replace an earlier replay in out_dir
-  bool out_given = false; // --out was given (so an empty out_dir is a mistake, not "none")
+  std::string out_dir;     // empty: summary to stdout only (unless out_given: then an error)
+  bool strict = false;     // stop at classes the reader cannot bound, no sandbox (RawlogReaderOptions)
+  bool replace = false;    // replace an earlier replay in out_dir
+  bool out_given = false;  // --out was given (so an empty out_dir is a mistake, not "none")
   // Range-only logs (rawlog/range_replay.h): a beacon list file (`ID x y z` per line) selects
   // that replay; the start pose "x,y,yaw_deg" with its 1-sigma "xy_m,yaw_deg" (default: uniform
   // over the beacons, any heading); the range 1-sigma (default: each observation's stdError).
@@ -31,7 +31,7 @@ struct ReplayAppOptions {
   std::string initial_pose{};
   std::string initial_sigma = "0.1,2";
   double range_sigma_m = 0.0;  // 0: the log's stdError
-  int particles = 0;  // 0: [PF_options] sampleSize of --mrpt-config, else 1000
+  int particles = 0;           // 0: [PF_options] sampleSize of --mrpt-config, else 1000
   int settle_steps = 10;
   // --refine on a range-only log: 0 smooths the whole log in one Ceres problem, W >= 2 refines
   // each frame in the window of the last W frames (fusion/range_smoother.h).
@@ -46,6 +46,5 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
 // The range-only replay (options.beacons_path or options.mrpt_config set), same exit codes: 2 also for a log with no
 // usable measurement (no CObservationBeaconRanges, no beacon ID in the map, nothing fused).
 int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostream& err);
-
 
 }  // namespace losmimo::apps

@@ -92,12 +92,11 @@ enum class CoevalAlgorithm {
 std::string to_string(CoevalAlgorithm algorithm);
 
 struct CoevaluationSettings {
-  std::vector<double> beacon_noise_values_m = {0.0,  0.02, 0.04, 0.06, 0.08,
-                                               0.10, 0.12, 0.14, 0.16, 0.18};
-  std::vector<CoevalAlgorithm> algorithms = {
-      CoevalAlgorithm::kGdGauss, CoevalAlgorithm::kGdEkf, CoevalAlgorithm::kGdGaussMatched, CoevalAlgorithm::kGdPf,
-      CoevalAlgorithm::kGdEkfCeres, CoevalAlgorithm::kBf, CoevalAlgorithm::kUraEkf,
-      CoevalAlgorithm::kCentralized};
+  std::vector<double> beacon_noise_values_m = {0.0, 0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.14, 0.16, 0.18};
+  std::vector<CoevalAlgorithm> algorithms = {CoevalAlgorithm::kGdGauss,        CoevalAlgorithm::kGdEkf,
+                                             CoevalAlgorithm::kGdGaussMatched, CoevalAlgorithm::kGdPf,
+                                             CoevalAlgorithm::kGdEkfCeres,     CoevalAlgorithm::kBf,
+                                             CoevalAlgorithm::kUraEkf,         CoevalAlgorithm::kCentralized};
   // The [closed_loop] keys shared with losmimo-record, as ClosedLoopConfig holds them:
   // simulator.sigma_range_m (the beacon's range 1-sigma at every point), simulator.dr_sigma_*,
   // filter.num_particles, refinement.window_epochs and refinement.use_csi. The rest of a run's
@@ -105,8 +104,7 @@ struct CoevaluationSettings {
   fusion::ClosedLoopConfig closed_loop;
   placement::UraVariant ura_variant = placement::UraVariant::kRigid;
   std::vector<int> outage_values = {0, 2, 4, 8};  // UAVs without beacon
-  std::vector<CoevalAlgorithm> outage_algorithms = {CoevalAlgorithm::kGdEkf,
-                                                    CoevalAlgorithm::kGdEkfNoFallback};
+  std::vector<CoevalAlgorithm> outage_algorithms = {CoevalAlgorithm::kGdEkf, CoevalAlgorithm::kGdEkfNoFallback};
   int outage_first_epoch = 10;
   int outage_epochs = 30;
   int outage_degraded_after_epochs = 5;
@@ -126,12 +124,12 @@ std::string to_ini(const CoevaluationSettings& settings);
 
 // The extra metrics, declared like the built-in ones (experiment/metrics.h).
 inline constexpr experiment::ExtensionMetric kLocRmse{
-    {"loc_rmse_m"}, "m",
+    {"loc_rmse_m"},
+    "m",
     "3-D RMSE of the position estimates placement used, over every epoch and UAV (gd_gauss: the model's sqrt(3) v, "
     "by construction)"};
 inline constexpr experiment::ExtensionMetric kLocLateralRmse{
-    {"loc_lateral_rmse_m"}, "m",
-    "the same across the line of sight, sqrt(e_y^2 + e_z^2) (gd_gauss: sqrt(2) v)"};
+    {"loc_lateral_rmse_m"}, "m", "the same across the line of sight, sqrt(e_y^2 + e_z^2) (gd_gauss: sqrt(2) v)"};
 inline constexpr experiment::ExtensionMetric kNees{
     {"nees"}, "", "average e^T P^-1 e of those estimates (3 when consistent)"};
 inline constexpr experiment::ExtensionMetric kBfFallbackFraction{
@@ -139,7 +137,8 @@ inline constexpr experiment::ExtensionMetric kBfFallbackFraction{
 inline constexpr experiment::ExtensionMetric kBeaconLateralRmse{
     {"beacon_lateral_rmse_m"}, "m", "the beacon-only fixes' lateral RMSE (measured), the matching check"};
 inline constexpr experiment::ExtensionMetric kPairedTravelDiff{
-    {"paired_travel_diff_m"}, "m",
+    {"paired_travel_diff_m"},
+    "m",
     "gd_gauss_matched only: gd_ekf's dist_to_icn095_m minus its own, same trial and point (NaN when either did "
     "not reach ICN 0.95); summarised, the paired mean difference with its 95% CI"};
 inline constexpr experiment::ExtensionMetric kPairedIterationsDiff{
@@ -150,8 +149,8 @@ const experiment::ExtensionMetrics& coevaluation_metrics();
 // The closed-loop config of `algorithm` (a closed-loop one) at beacon cross-range error
 // beacon_noise_m [m] (sigma_angle_rad = beacon_noise_m / R).
 fusion::ClosedLoopConfig coevaluation_closed_loop_config(const CoevaluationSettings& settings,
-                                                 const placement::Scenario& scenario,
-                                                 CoevalAlgorithm algorithm, double beacon_noise_m);
+                                                         const placement::Scenario& scenario, CoevalAlgorithm algorithm,
+                                                         double beacon_noise_m);
 
 // The UAVs that lose the beacon in the outage sweep: floor(i * num_uavs / num_lost).
 std::vector<int> outage_uavs(int num_lost, int num_uavs);
@@ -160,11 +159,10 @@ std::vector<int> outage_uavs(int num_lost, int num_uavs);
 class CentralizedCache;
 
 // One trial of each sweep: every configured algorithm's record (extra = the metrics above).
-std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::ExperimentSettings& settings,
-                                                           int point, int trial,
-                                                           CentralizedCache* cache = nullptr);
-std::vector<experiment::TrialRecord> run_outage_trial(const experiment::ExperimentSettings& settings,
-                                                     int point, int trial);
+std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::ExperimentSettings& settings, int point,
+                                                            int trial, CentralizedCache* cache = nullptr);
+std::vector<experiment::TrialRecord> run_outage_trial(const experiment::ExperimentSettings& settings, int point,
+                                                      int trial);
 
 // The two extensions (extensions.h lists them). Each beacon_noise_m extension owns
 // a CentralizedCache.

@@ -93,9 +93,9 @@ struct FusedRange {
 };
 
 struct RangeInnovations {
-  int fused = 0;           // readings fused in the update (not a reset's)
-  double sum_sq_m2 = 0.0;  // sum of y_j^2
-  double nis_sum = 0.0;    // sum of y_j^2 / S_j
+  int fused = 0;                     // readings fused in the update (not a reset's)
+  double sum_sq_m2 = 0.0;            // sum of y_j^2
+  double nis_sum = 0.0;              // sum of y_j^2 / S_j
   std::vector<FusedRange> readings;  // every reading the epoch used (update or reset fix); gated ones are not here
 };
 

@@ -51,7 +51,7 @@ using PosePrior = std::variant<PoseBelief, PoseBox>;
 void validate(const PosePrior& prior);
 
 struct SensorFix {
-  RangeFix fix;                                                  // of the sensor point c
+  RangeFix fix;                                                 // of the sensor point c
   Eigen::Vector3d sensor_on_robot_m = Eigen::Vector3d::Zero();  // s
 };
 

@@ -66,11 +66,11 @@ Eigen::Vector4d increment_between(const Eigen::Vector4d& from, const Eigen::Vect
 
 // CActionRobotMovement2D::TMotionModelOptions::TOptions_GaussianModel, with MRPT's defaults.
 struct GaussianMotionModel2D {
-  double a1 = 0.01;                     // m of s_xy per m travelled
-  double a2 = 0.05729577951308232;      // m of s_xy per rad turned (RAD2DEG(0.001))
-  double a3 = 0.017453292519943295;     // rad of s_phi per m travelled (DEG2RAD(1))
-  double a4 = 0.05;                     // rad of s_phi per rad turned
-  double min_std_xy_m = 0.01;           // minStdXY
+  double a1 = 0.01;                               // m of s_xy per m travelled
+  double a2 = 0.05729577951308232;                // m of s_xy per rad turned (RAD2DEG(0.001))
+  double a3 = 0.017453292519943295;               // rad of s_phi per m travelled (DEG2RAD(1))
+  double a4 = 0.05;                               // rad of s_phi per rad turned
+  double min_std_xy_m = 0.01;                     // minStdXY
   double min_std_phi_rad = 0.003490658503988659;  // minStdPHI (DEG2RAD(0.2))
 };
 
@@ -78,8 +78,7 @@ struct GaussianMotionModel2D {
 void validate(const GaussianMotionModel2D& model);
 
 // MRPT's Gaussian covariance of a 2-D increment (rows/cols x, y, phi), as above.
-Eigen::Matrix3d gaussian_motion_cov_2d(double dx_m, double dy_m, double dphi_rad,
-                                       const GaussianMotionModel2D& model);
+Eigen::Matrix3d gaussian_motion_cov_2d(double dx_m, double dy_m, double dphi_rad, const GaussianMotionModel2D& model);
 
 // A 2-D odometry reading as a 4-D increment: dz = 0, Sigma_u the 3x3 above in the x-y-yaw
 // block and sigma_z_m^2 on z (0 for a robot on a floor; the filters floor it).

@@ -64,7 +64,7 @@ BeaconMap bs_antenna_beacon_map(const placement::Scenario& scenario);
 // One reading (CObservationBeaconRanges::TMeasurement).
 struct BeaconRange {
   std::int32_t beacon_id = kInvalidBeaconId;
-  double range_m = 0.0;                                          // sensedDistance
+  double range_m = 0.0;                                         // sensedDistance
   Eigen::Vector3d sensor_on_robot_m = Eigen::Vector3d::Zero();  // sensorLocationOnRobot
 };
 

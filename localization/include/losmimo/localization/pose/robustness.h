@@ -36,8 +36,8 @@ enum class RangeEpochVerdict {
 struct RangeUpdatePlan {
   RangeEpochVerdict verdict = RangeEpochVerdict::kNone;
   std::vector<UsableRange> fuse;
-  RangeInnovations innovations;  // of the readings in `fuse`, against the prediction
-  std::optional<RangeFix> reset_fix;                          // of the sensor point, kReset only
+  RangeInnovations innovations;       // of the readings in `fuse`, against the prediction
+  std::optional<RangeFix> reset_fix;  // of the sensor point, kReset only
   Eigen::Vector3d reset_sensor_on_robot_m = Eigen::Vector3d::Zero();
 };
 

@@ -23,8 +23,7 @@ class EkfPositionFilter final : public PositionFilter {
   EkfPositionFilter(const EkfPositionFilter&) = delete;
   EkfPositionFilter& operator=(const EkfPositionFilter&) = delete;
 
-  void step(const Eigen::Vector3d& measured_displacement_m,
-            const std::optional<BeaconMeasurement>& beacon) override;
+  void step(const Eigen::Vector3d& measured_displacement_m, const std::optional<BeaconMeasurement>& beacon) override;
   Belief belief() const override;
   const FilterCounters& counters() const override;
   FilterKind kind() const override { return FilterKind::kEkf; }

@@ -57,8 +57,7 @@ class PositionFilter {
   virtual ~PositionFilter() = default;
 
   // One epoch: prediction with the measured displacement, then the beacon if any.
-  virtual void step(const Eigen::Vector3d& measured_displacement_m,
-                    const std::optional<BeaconMeasurement>& beacon) = 0;
+  virtual void step(const Eigen::Vector3d& measured_displacement_m, const std::optional<BeaconMeasurement>& beacon) = 0;
   virtual Belief belief() const = 0;
   virtual const FilterCounters& counters() const = 0;
   virtual FilterKind kind() const = 0;
@@ -72,7 +71,7 @@ std::optional<std::string> health_problem(const PositionFilter& filter);
 // A filter starting from `initial` (validated). `seed` drives the filter's own random generator
 // (the particle filter's; the EKF draws no random numbers): equal seeds, equal results, in any
 // thread.
-std::unique_ptr<PositionFilter> make_filter(FilterKind kind, const FilterConfig& config,
-                                            const Belief& initial, std::uint64_t seed);
+std::unique_ptr<PositionFilter> make_filter(FilterKind kind, const FilterConfig& config, const Belief& initial,
+                                            std::uint64_t seed);
 
 }  // namespace losmimo::localization

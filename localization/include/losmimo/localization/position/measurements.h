@@ -23,8 +23,8 @@ struct BeaconMeasurement {
 struct Belief {
   Eigen::Vector3d mean_m = Eigen::Vector3d::Zero();
   Eigen::Matrix3d cov_m2 = Eigen::Matrix3d::Identity();
-  bool degraded = false;         // beacon timeout or covariance above its threshold
-  int epochs_since_beacon = 0;   // epochs since the last fused beacon
+  bool degraded = false;        // beacon timeout or covariance above its threshold
+  int epochs_since_beacon = 0;  // epochs since the last fused beacon
 };
 
 }  // namespace losmimo::localization

@@ -47,8 +47,7 @@ class ParticlePositionFilter final : public PositionFilter {
   ParticlePositionFilter(const ParticlePositionFilter&) = delete;
   ParticlePositionFilter& operator=(const ParticlePositionFilter&) = delete;
 
-  void step(const Eigen::Vector3d& measured_displacement_m,
-            const std::optional<BeaconMeasurement>& beacon) override;
+  void step(const Eigen::Vector3d& measured_displacement_m, const std::optional<BeaconMeasurement>& beacon) override;
   Belief belief() const override;
   const FilterCounters& counters() const override;
   FilterKind kind() const override { return FilterKind::kParticle; }

@@ -51,11 +51,9 @@ enum class BeaconVerdict { kNone, kNonFinite, kOutOfRange, kGeometry, kGated, kF
 // the counters and the consecutive-rejection count. predicted_mean_m/predicted_cov_m2: the
 // belief after prediction. Only the gate touches consecutive_gated: a non-finite, implausible
 // or badly placed beacon leaves it as it was, as an epoch without a beacon does.
-BeaconVerdict screen_beacon(const FilterConfig& config,
-                            const std::optional<BeaconMeasurement>& beacon,
-                            const Eigen::Vector3d& predicted_mean_m,
-                            const Eigen::Matrix3d& predicted_cov_m2, int& consecutive_gated,
-                            FilterCounters& counters);
+BeaconVerdict screen_beacon(const FilterConfig& config, const std::optional<BeaconMeasurement>& beacon,
+                            const Eigen::Vector3d& predicted_mean_m, const Eigen::Matrix3d& predicted_cov_m2,
+                            int& consecutive_gated, FilterCounters& counters);
 
 // Sets degraded and epochs_since_beacon of a belief from the health rules of filter.h.
 void apply_health(const FilterConfig& config, int epochs_since_beacon, Belief& belief);

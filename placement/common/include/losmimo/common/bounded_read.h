@@ -16,11 +16,11 @@ namespace losmimo::common {
 
 // The limits of the inputs losmimo reads (docs/reliability.md, "Size limits"). Each is far
 // above the largest legitimate input (in brackets).
-inline constexpr std::size_t kMaxConfigBytes = std::size_t{1} << 20;           // INI files [paper.ini 1.2 KB]
-inline constexpr std::size_t kMaxPositionsBytes = std::size_t{16} << 20;       // positions CSV [65536 UAVs: 5 MB]
-inline constexpr std::size_t kMaxPositionsLineBytes = 4096;                    // [a UAV at %.17g: 75 B]
-inline constexpr std::size_t kMaxRecordLineBytes = std::size_t{1} << 20;       // [4096 UAVs: 650 KB]
-inline constexpr std::size_t kMaxRecordsBytes = std::size_t{1} << 30;          // all records of a run [paper run: 108 MB]
+inline constexpr std::size_t kMaxConfigBytes = std::size_t{1} << 20;      // INI files [paper.ini 1.2 KB]
+inline constexpr std::size_t kMaxPositionsBytes = std::size_t{16} << 20;  // positions CSV [65536 UAVs: 5 MB]
+inline constexpr std::size_t kMaxPositionsLineBytes = 4096;               // [a UAV at %.17g: 75 B]
+inline constexpr std::size_t kMaxRecordLineBytes = std::size_t{1} << 20;  // [4096 UAVs: 650 KB]
+inline constexpr std::size_t kMaxRecordsBytes = std::size_t{1} << 30;     // all records of a run [paper run: 108 MB]
 
 // "1 MiB", "4096 bytes": a limit as messages show it.
 std::string format_bytes(std::size_t bytes);

@@ -38,11 +38,10 @@ class IniConfig {
   // Typed getters: the fallback when absent, else the parsed value or an InputError naming
   // "origin:line: [section] key".
   double get_double(const std::string& section, const std::string& key, double fallback) const;
-  long long get_integer(const std::string& section, const std::string& key, long long fallback,
-                        long long lo, long long hi) const;
+  long long get_integer(const std::string& section, const std::string& key, long long fallback, long long lo,
+                        long long hi) const;
   bool get_bool(const std::string& section, const std::string& key, bool fallback) const;
-  std::string get_string(const std::string& section, const std::string& key,
-                         const std::string& fallback) const;
+  std::string get_string(const std::string& section, const std::string& key, const std::string& fallback) const;
   // "origin:line: [section] key" for messages about a key's value.
   std::string where(const std::string& section, const std::string& key) const;
 

@@ -55,9 +55,9 @@ struct Key {
   std::string section;
   std::string key;
   Kind kind = Kind::kText;
-  std::string rule;     // the values it accepts, e.g. "integer in [1, 64]", "far_field | exact"
-  std::string doc;      // what it sets, with the unit
-  std::string example;  // a valid value other than the default, as to_ini writes it (tests)
+  std::string rule;                  // the values it accepts, e.g. "integer in [1, 64]", "far_field | exact"
+  std::string doc;                   // what it sets, with the unit
+  std::string example;               // a valid value other than the default, as to_ini writes it (tests)
   std::vector<std::string> refused;  // values load() refuses (tests: each error names the key)
   std::vector<std::string> fields;   // the fields it sets, as FieldError::field() names them
                                      // (default: the key)
@@ -65,9 +65,9 @@ struct Key {
   // whole message (`where` is "FILE:LINE: [section] key"), or std::invalid_argument, which
   // load() prefixes with "<where>: ".
   Read read;
-  Write write;                              // the value as INI text
-  std::function<bool(const S&)> written;    // whether to_ini writes it; empty: always
-  std::function<void(S&)> if_absent;        // derives the value when the key is not given
+  Write write;                            // the value as INI text
+  std::function<bool(const S&)> written;  // whether to_ini writes it; empty: always
+  std::function<void(S&)> if_absent;      // derives the value when the key is not given
 
   // Options, chained on a factory's result.
   Key sets(std::vector<std::string> set_fields) && {
@@ -93,8 +93,9 @@ struct Key {
   static Key real(std::string section, std::string key, Field field, Range range, std::string doc,
                   std::string example) {
     auto ref = reference(field);
-    return real(std::move(section), std::move(key), [ref](const S& s) { return ref(s); },
-                [ref](S& s, double v) { ref(s) = v; }, range, std::move(doc), std::move(example));
+    return real(
+        std::move(section), std::move(key), [ref](const S& s) { return ref(s); }, [ref](S& s, double v) { ref(s) = v; },
+        range, std::move(doc), std::move(example));
   }
   // The same with explicit get and set (a key that sets several fields).
   template <typename Get, typename Set>
@@ -115,11 +116,11 @@ struct Key {
 
   // An integer in [lo, hi] (any integer field type).
   template <typename Field>
-  static Key integer(std::string section, std::string key, Field field, long long lo, long long hi,
-                     std::string doc, std::string example) {
-    Key k = make(std::move(section), std::move(key), Kind::kInteger,
-                 "integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", std::move(doc),
-                 std::move(example));
+  static Key integer(std::string section, std::string key, Field field, long long lo, long long hi, std::string doc,
+                     std::string example) {
+    Key k =
+        make(std::move(section), std::move(key), Kind::kInteger,
+             "integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", std::move(doc), std::move(example));
     k.refused = {"1.5"};
     if (lo > std::numeric_limits<long long>::min()) k.refused.push_back(std::to_string(lo - 1));
     if (hi < std::numeric_limits<long long>::max()) k.refused.push_back(std::to_string(hi + 1));
@@ -143,8 +144,7 @@ struct Key {
   // true/false (also 1/0, yes/no, on/off when read).
   template <typename Field>
   static Key boolean(std::string section, std::string key, Field field, std::string doc, std::string example) {
-    Key k = make(std::move(section), std::move(key), Kind::kBool, "true | false", std::move(doc),
-                 std::move(example));
+    Key k = make(std::move(section), std::move(key), Kind::kBool, "true | false", std::move(doc), std::move(example));
     k.refused = {"maybe"};
     auto ref = reference(field);
     k.read = [ref](S& s, const std::string& text, const std::string& where) { ref(s) = parse_bool(text, where); };
@@ -187,8 +187,8 @@ struct Key {
   static Key integer_list(std::string section, std::string key, Field field, long long lo, long long hi,
                           std::string doc, std::string example) {
     Key k = make(std::move(section), std::move(key), Kind::kList,
-                 "comma-separated integers in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]",
-                 std::move(doc), std::move(example));
+                 "comma-separated integers in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", std::move(doc),
+                 std::move(example));
     k.refused = {"", "0, 1.5"};
     if (lo > std::numeric_limits<long long>::min()) k.refused.push_back(std::to_string(lo - 1));
     auto ref = reference(field);
@@ -215,8 +215,7 @@ struct Key {
   // Any other value (names, structured lists): `read` parses, `write` prints.
   static Key text(std::string section, std::string key, Read read, std::function<std::string(const S&)> write,
                   std::string rule, std::string doc, std::string example) {
-    Key k = make(std::move(section), std::move(key), Kind::kText, std::move(rule), std::move(doc),
-                 std::move(example));
+    Key k = make(std::move(section), std::move(key), Kind::kText, std::move(rule), std::move(doc), std::move(example));
     k.refused = {"not-a-value"};
     k.read = std::move(read);
     k.write = [write = std::move(write)](const S& s, DoubleFormat) { return write(s); };
@@ -323,8 +322,8 @@ class KeyTable {
   void load(const IniConfig& config, S& settings) const {
     for (const Renamed& r : renamed_) {
       if (config.has(r.section, r.key)) {
-        throw InputError(config.where(r.section, r.key) + ": no longer read: set [" + r.new_section + "] " +
-                         r.new_key + " instead");
+        throw InputError(config.where(r.section, r.key) + ": no longer read: set [" + r.new_section + "] " + r.new_key +
+                         " instead");
       }
     }
     for (const Key<S>& k : keys_) {
@@ -396,8 +395,8 @@ class KeyTable {
     };
     for (const Key<S>& k : keys_) {
       if (!sections.empty() && sections.count(k.section) == 0) continue;
-      out += "| [" + k.section + "] | " + k.key + " | " + cell(k.write(*defaults, &format_double)) + " | " + cell(k.rule) +
-             " | " + cell(k.doc) + " |\n";
+      out += "| [" + k.section + "] | " + k.key + " | " + cell(k.write(*defaults, &format_double)) + " | " +
+             cell(k.rule) + " | " + cell(k.doc) + " |\n";
     }
     return out;
   }

@@ -32,7 +32,7 @@ struct ExperimentExtension {
   std::function<std::vector<TrialRecord>(const ExperimentSettings&, int point, int trial)> run;
   // Optional: figures (write files into the folder, return warnings) and a report.md section.
   std::function<std::vector<std::string>(const ExperimentSettings&, const std::vector<SummaryRow>&,
-                                          const std::string& out_dir)>
+                                         const std::string& out_dir)>
       figures;
   std::function<std::string(const ExperimentSettings&, const std::vector<SummaryRow>&)> report_section;
   // Optional: the conditions of this run under which parts of the sweep do not run (e.g. "no
@@ -46,7 +46,8 @@ using ExperimentExtensions = std::vector<ExperimentExtension>;
 std::map<std::string, std::set<std::string>> experiment_config_keys(const ExperimentExtensions& extensions = {});
 
 // Validates every key (unknown ones included) before any work; common::InputError names key and value.
-ExperimentSettings load_experiment_settings(const common::IniConfig& config, const ExperimentExtensions& extensions = {});
+ExperimentSettings load_experiment_settings(const common::IniConfig& config,
+                                            const ExperimentExtensions& extensions = {});
 std::string to_ini(const ExperimentSettings& settings);
 
 // The settings of a reading: `base`'s configuration with the reading's keys set (placement keys
@@ -57,8 +58,7 @@ ExperimentSettings apply_reading(const ExperimentSettings& base, const ReadingSp
 
 // The extra metric columns: the extensions' metrics of the sweeps enabled in `settings`, in
 // sweep order (each name once), then with [experiment] milestone_columns milestone_metrics().
-std::vector<std::string> extra_metric_names(const ExperimentSettings& settings,
-                                            const ExperimentExtensions& extensions);
+std::vector<std::string> extra_metric_names(const ExperimentSettings& settings, const ExperimentExtensions& extensions);
 // The extensions' part of it.
 std::vector<std::string> extension_metric_names(const ExperimentSettings& settings,
                                                 const ExperimentExtensions& extensions);

@@ -36,9 +36,9 @@ struct ReadingMeasure {
 };
 
 struct ReadingResults {
-  int trials = 0;                    // per reading and point
-  std::vector<PaperValue> values;    // the paper values measured, in paper_values() order
-  std::vector<int> value_numbers;    // their numbers 1..27 in paper_values()
+  int trials = 0;                  // per reading and point
+  std::vector<PaperValue> values;  // the paper values measured, in paper_values() order
+  std::vector<int> value_numbers;  // their numbers 1..27 in paper_values()
   std::vector<ReadingSpec> readings;
   std::vector<std::vector<ReadingMeasure>> measures;  // [reading][value]
   bool empty() const { return readings.empty(); }

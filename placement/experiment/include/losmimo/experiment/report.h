@@ -58,20 +58,19 @@ struct ReportOutcome {
 
 // Figures of sweeps that did not run are skipped; extensions add their figures and sections.
 ReportOutcome write_figures_and_report(const ExperimentSettings& settings, const ExperimentExtensions& extensions,
-                                       const ExperimentResults& results,
-                                       const std::vector<SummaryRow>& summary, const std::string& out_dir,
-                                       const RunTiming& timing);
+                                       const ExperimentResults& results, const std::vector<SummaryRow>& summary,
+                                       const std::string& out_dir, const RunTiming& timing);
 
 // One paper-vs-measured comparison line of report.md.
 struct PaperValue {
   std::string figure;    // "Fig 2a"
   std::string quantity;  // human label
   std::string sweep;
-  double value;          // sweep point
+  double value;  // sweep point
   std::string algorithm;
-  MetricId metric;       // a summarised metric or a milestone (metrics.h)
+  MetricId metric;  // a summarised metric or a milestone (metrics.h)
   double paper;
-  double resolution;     // how precisely the value can be read off the paper's figure
+  double resolution;  // how precisely the value can be read off the paper's figure
 };
 // The 27 values, numbered 1..27 in this order. Fig 1's iteration counts use the metric
 // metrics::kIterationsToIcn095 (the report falls back to `iterations` without milestone columns: the

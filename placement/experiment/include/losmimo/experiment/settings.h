@@ -40,7 +40,7 @@ struct SweepPoints {
 struct ReadingSpec {
   std::string name;
   std::vector<std::pair<std::string, std::string>> assignments;  // ("gd.escape", "false")
-  std::string text() const;  // "name: gd.escape=false, gd.step=0.8"
+  std::string text() const;                                      // "name: gd.escape=false, gd.step=0.8"
 };
 
 struct ExperimentSettings {
@@ -48,11 +48,10 @@ struct ExperimentSettings {
   common::IniConfig config;  // the whole validated config: extensions read their own sections
   int trials = 12;
   std::uint64_t seed = 2018;
-  std::vector<SweepPoints> sweeps = {
-      {kSweepSigmaLoc, {0.0, 0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.14, 0.16, 0.18}},
-      {kSweepSigmaAct, {0.0, 0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.14, 0.16, 0.18}}};
-  std::vector<Algorithm> algorithms = {Algorithm::kRandom, Algorithm::kGd, Algorithm::kBf,
-                                       Algorithm::kUra, Algorithm::kUraLattice};
+  std::vector<SweepPoints> sweeps = {{kSweepSigmaLoc, {0.0, 0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.14, 0.16, 0.18}},
+                                     {kSweepSigmaAct, {0.0, 0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.14, 0.16, 0.18}}};
+  std::vector<Algorithm> algorithms = {Algorithm::kRandom, Algorithm::kGd, Algorithm::kBf, Algorithm::kUra,
+                                       Algorithm::kUraLattice};
   int fig1_trials = 1;
   int threads = 0;
   bool plots = true;

@@ -105,8 +105,7 @@ TrialRecord make_record(const ExperimentSettings& settings, const placement::Pla
 
 // The built-in sweeps (sigma_loc_m, sigma_act_m): the settings' algorithms on trial `trial`
 // at sweep point `point`.
-std::vector<TrialRecord> run_trial(const ExperimentSettings& settings, const std::string& sweep, int point,
-                                   int trial);
+std::vector<TrialRecord> run_trial(const ExperimentSettings& settings, const std::string& sweep, int point, int trial);
 
 // A Fig 1 run: `algorithm` without errors from trial `trial`'s start, SINR traced (and with
 // record_path, the positions after every iteration).

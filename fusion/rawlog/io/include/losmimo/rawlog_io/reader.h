@@ -56,8 +56,8 @@ struct RawlogReaderOptions {
 };
 
 struct RawlogObject {
-  std::int64_t index = 0;        // 0-based position in the file
-  std::uint64_t offset = 0;      // uncompressed byte offset of its first byte
+  std::int64_t index = 0;    // 0-based position in the file
+  std::uint64_t offset = 0;  // uncompressed byte offset of its first byte
   std::string class_name;
   std::shared_ptr<mrpt::serialization::CSerializable> object;
   // As serialized in the file (for the integrity digests); objects from the sandbox: as MRPT
@@ -76,9 +76,9 @@ std::string to_string(RawlogStop stop);
 
 struct RawlogReadStatus {
   RawlogStop stop = RawlogStop::kNone;
-  std::int64_t objects = 0;    // objects returned
-  std::uint64_t offset = 0;    // uncompressed offset where reading stopped
-  std::string reason;          // empty for kEnd
+  std::int64_t objects = 0;  // objects returned
+  std::uint64_t offset = 0;  // uncompressed offset where reading stopped
+  std::string reason;        // empty for kEnd
   // "stopped at object 12 (byte 3456): truncated: ..." (or "complete: 12 objects").
   std::string describe() const;
 };

@@ -15,8 +15,7 @@ namespace losmimo::rawlog_io {
 // A truncated (the gzip stream ends early) or corrupt (bad deflate data, CRC) stream.
 class RawlogSourceError : public std::runtime_error {
  public:
-  RawlogSourceError(const std::string& what, bool is_truncated)
-      : std::runtime_error(what), truncated(is_truncated) {}
+  RawlogSourceError(const std::string& what, bool is_truncated) : std::runtime_error(what), truncated(is_truncated) {}
   bool truncated;
 };
 

@@ -62,7 +62,7 @@ std::string uav_label(int uav, UavStream stream);
 
 struct UavLabel {
   int uav = 0;
-  std::string suffix;  // what follows "UAVnn_" ("BEACON", or a foreign suffix)
+  std::string suffix;               // what follows "UAVnn_" ("BEACON", or a foreign suffix)
   std::optional<UavStream> stream;  // set when the suffix is one of ours
 };
 // Parses "UAV<digits>_<suffix>" (uav < 100000, rawlog_io/labels.h); nullopt for anything else.
@@ -78,7 +78,6 @@ inline constexpr float kBsRangesMaxDistance_m = 1e6f;
 inline constexpr double kMoveGd = 0.0;
 inline constexpr double kMoveBf = 1.0;
 inline constexpr double kMoveEscape = 2.0;
-
 
 // The marks' text: "key = value" lines, closed by "text_digest = <hex64 of the text before it>".
 std::string with_text_digest(const std::string& text);  // appends the text_digest line

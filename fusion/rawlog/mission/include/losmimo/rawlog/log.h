@@ -57,16 +57,16 @@ struct MissionLog {
   int num_uavs = 0;
   // [epoch][uav]; ours: num_uavs per row; foreign: a row may be shorter (UAVs not seen in it).
   std::vector<std::vector<LoggedUavEpoch>> epochs;
-  std::vector<std::string> modes;                   // [epoch]: 'G', 'B', '-' per UAV (ours)
-  std::optional<int> final_truth_epoch;             // epoch index of the final positions
+  std::vector<std::string> modes;        // [epoch]: 'G', 'B', '-' per UAV (ours)
+  std::optional<int> final_truth_epoch;  // epoch index of the final positions
   std::optional<Eigen::Matrix3Xd> final_truth_m;
-  bool complete = false;                            // END_OF_LOG present and verified
-  RunEnd run_end;  // from END_OF_LOG (ours, complete); status empty otherwise
+  bool complete = false;  // END_OF_LOG present and verified
+  RunEnd run_end;         // from END_OF_LOG (ours, complete); status empty otherwise
   bool run_faulted() const { return is_fault_status(run_end.status); }
-  std::map<std::string, std::int64_t> used;         // "class label" -> count
-  std::map<std::string, std::int64_t> skipped;      // "class label" -> count
+  std::map<std::string, std::int64_t> used;     // "class label" -> count
+  std::map<std::string, std::int64_t> skipped;  // "class label" -> count
   rawlog_io::RawlogReadStatus read_status;
-  std::string integrity_error;  // first failed check of a mark (empty: none)
+  std::string integrity_error;               // first failed check of a mark (empty: none)
   std::int64_t objects_after_last_mark = 0;  // read but not used (ours)
   std::string stop_description() const;      // where and why the usable data ended
 };

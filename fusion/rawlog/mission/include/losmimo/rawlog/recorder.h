@@ -27,9 +27,9 @@ namespace losmimo::rawlog {
 
 struct RecordResult {
   fusion::ClosedLoopRun run;
-  std::int64_t objects = 0;            // every object written, marks included
+  std::int64_t objects = 0;  // every object written, marks included
   std::uint64_t uncompressed_bytes = 0;
-  int epochs = 0;                      // localization epochs (0 .. epochs - 1)
+  int epochs = 0;                                    // localization epochs (0 .. epochs - 1)
   std::map<std::string, std::int64_t> label_counts;  // per sensorLabel
 };
 

@@ -50,7 +50,7 @@ struct ReplayUavEpoch {
   int uav = 0;
   localization::Belief filter_belief;
   localization::Belief belief;  // what placement would use (refined, or the filter's)
-  bool silent = false;  // ours: nothing arrived in this epoch; the belief is held from the last one
+  bool silent = false;          // ours: nothing arrived in this epoch; the belief is held from the last one
   bool has_beacon = false;
   bool has_truth = false;
   Eigen::Vector3d truth_m = Eigen::Vector3d::Zero();

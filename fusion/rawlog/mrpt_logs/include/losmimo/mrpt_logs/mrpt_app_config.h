@@ -49,7 +49,8 @@ MrptAppConfig read_mrpt_app_config(const std::string& path);
 // insert_Landmarks_from_range_scans = 0; with a range sigma, [..._likelihoodOpts]
 // beaconRangesStd. Throws common::InputError for an empty map (the stock apps would localize
 // against nothing) or a sigma that is not > 0.
-std::string beacons_ini_text(const localization::BeaconMap& beacons, std::optional<double> range_sigma_m = std::nullopt);
+std::string beacons_ini_text(const localization::BeaconMap& beacons,
+                             std::optional<double> range_sigma_m = std::nullopt);
 // Writes beacons_ini_text to `path` (std::runtime_error if it cannot be written).
 void write_beacons_ini(const localization::BeaconMap& beacons, const std::string& path,
                        std::optional<double> range_sigma_m = std::nullopt);

@@ -35,8 +35,8 @@
 namespace losmimo::mrpt_logs {
 
 struct RangeFrame {
-  std::int64_t step = 0;    // 0-based index of the frame in the log (header)
-  double timestamp_s = 0.0; // MRPT time as seconds since the Unix epoch; nan if none
+  std::int64_t step = 0;     // 0-based index of the frame in the log (header)
+  double timestamp_s = 0.0;  // MRPT time as seconds since the Unix epoch; nan if none
   bool has_odometry = false;
   localization::OdometryIncrement odometry;
   std::vector<localization::BeaconRangeScan> scans;
@@ -47,7 +47,7 @@ struct RangeLog {
   std::int64_t beacon_observations = 0;  // CObservationBeaconRanges read
   std::int64_t ranges = 0;               // readings in them
   std::int64_t trailing_actions = 0;
-  std::set<int> beacon_uavs;  // nn of the CObservationBeaconRanges labelled "UAVnn_..." (format.h)
+  std::set<int> beacon_uavs;                    // nn of the CObservationBeaconRanges labelled "UAVnn_..." (format.h)
   std::map<std::string, std::int64_t> used;     // class -> count
   std::map<std::string, std::int64_t> skipped;  // class -> count
   rawlog_io::RawlogReadStatus read_status;

@@ -93,11 +93,11 @@ struct RangeReplayResult {
   double rmse_m = 0.0, mean_nees = 0.0, dr_rmse_m = 0.0;  // nan without truth
   // With refinement (else `refined` false and the figures unset):
   bool refined = false;
-  std::string refine_mode;  // "batch" or "window <W>"
+  std::string refine_mode;               // "batch" or "window <W>"
   fusion::RangeSmootherResult smoother;  // its track is in the rows' `refined`
   double refined_residual_rms_m = 0.0, refined_residual_rms_settled_m = 0.0;
   double refined_rmse_m = 0.0, refined_mean_nees = 0.0;  // nan without truth
-  double refine_wall_s = 0.0;  // process-dependent: not in the summary rows
+  double refine_wall_s = 0.0;                            // process-dependent: not in the summary rows
 };
 
 RangeReplayResult replay_ranges(const RangeLog& log, const localization::BeaconMap& beacons,
