@@ -88,8 +88,9 @@ std::vector<double> extension_columns(const TrialRecord& r, const ExtensionMetri
     if (!v) refuse("leaves " + std::string(m.name) + " unset");
     columns.push_back(*v);
   }
-  for (const auto& [id, value] : r.extension.entries()) {
-    if (std::none_of(table.begin(), table.end(), [&](const ExtensionMetric& m) { return id == m; })) {
+  for (const auto& entry : r.extension.entries()) {
+    const auto& id = entry.first;  // a named variable: C++17 lambdas cannot capture a structured binding
+    if (std::none_of(table.begin(), table.end(), [&id](const ExtensionMetric& m) { return id == m; })) {
       refuse("sets " + std::string(id.name) + ", which its extension does not declare");
     }
   }
