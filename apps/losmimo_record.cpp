@@ -15,6 +15,9 @@ int main(int argc, char** argv) {
   app.add_option("--set", options.overrides, "override a key: section.key=value (repeatable)");
   app.add_option("--out", options.out_path, "output rawlog (gzip), written as <out>.partial until complete")
       ->required();
+  app.add_option("--ro-export", options.ro_export_uavs,
+                 "also write this UAV's stream for stock ro-localization beside the log: <out>.uavNN.ro.rawlog, "
+                 ".ro.ini, .ro_truth.txt (repeatable)");
   app.add_flag("--replace", options.replace, "replace an existing --out file (default: refuse, exit 2)");
   try {
     app.parse(argc, argv);

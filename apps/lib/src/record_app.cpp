@@ -16,6 +16,7 @@
 #include "losmimo/rawlog/recorder.h"
 #include "kernel_isa.h"
 #include "messages.h"
+#include "record_ro_export.h"
 
 namespace losmimo::apps {
 
@@ -28,6 +29,7 @@ constexpr const char* kApp = "losmimo-record";
 int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostream& err) {
   MissionConfig config;
   std::optional<common::StagedFile> staged, staged_beacons;
+  std::optional<RoExportOutputs> ro_exports;
   try {
     common::IniConfig ini =
         options.config_path.empty() ? common::IniConfig() : common::IniConfig::from_file(options.config_path);
@@ -50,9 +52,12 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
     staged.emplace(common::StagedFile::create(options.out_path, options.replace));
     try {
       staged_beacons.emplace(common::StagedFile::create(beacons_ini_path(options.out_path), options.replace));
+      ro_exports.emplace(RoExportOutputs::create(options.out_path, options.ro_export_uavs,
+                                                 config.placement.scenario.num_uavs, options.replace));
     } catch (...) {
       std::error_code ignored;  // the staged log was just created, empty: no litter from a refused run
       std::filesystem::remove(staged->path(), ignored);
+      if (staged_beacons) std::filesystem::remove(staged_beacons->path(), ignored);
       throw;
     }
   } catch (...) {
@@ -76,6 +81,13 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
         << placement::to_string(r.run.run.status) << ", final ICN "
         << (r.run.run.trace.empty() ? 0.0 : r.run.run.trace.back().icn) << "\n"
         << "losmimo-record: beacon map for stock MRPT apps: " << staged_beacons->final_path() << "\n";
+    try {  // one UAV's stream for stock ro-localization (--ro-export), from the published log
+      ro_exports->write(options.out_path, out);
+    } catch (const std::exception& e) {
+      ro_exports->discard();
+      print_error(err, kApp, std::string("--ro-export: ") + e.what() + " (the log is complete: " + options.out_path + ")");
+      return kExitFailure;
+    }
     if (r.run.run.faulted()) {  // the log is complete up to the fault (END_OF_LOG has the status)
       err << "losmimo-record: run ended by a fault: " << r.run.run.fault << "\n";
       return kExitFault;

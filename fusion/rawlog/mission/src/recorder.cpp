@@ -26,13 +26,14 @@
 #include "losmimo/mrpt_logs/mrpt_app_config.h"
 #include "losmimo/common/input_error.h"
 #include "losmimo/placement/metrics.h"
+#include "stock_streams.h"
 
 namespace losmimo::rawlog {
 
 namespace {
 
-// 2026-01-01T00:00:00Z: a fixed origin keeps the logs (and their digests) reproducible.
-constexpr double kTimeOrigin_s = 1767225600.0;
+using detail::bs_ranges_obs;
+using detail::kTimeOrigin_s;
 
 struct GzClose {
   void operator()(gzFile_s* f) const { gzclose(f); }
@@ -125,22 +126,6 @@ mrpt::obs::CObservationOdometry odometry_obs(const std::string& label, double t_
   return o;
 }
 
-// The beacon's range as one reading of the BS beacon (format.h), for stock range-only apps.
-mrpt::obs::CObservationBeaconRanges bs_ranges_obs(const std::string& label, double t_s, double range_m,
-                                                  double sigma_range_m) {
-  mrpt::obs::CObservationBeaconRanges o;
-  o.sensorLabel = label;
-  o.timestamp = mrpt::Clock::fromDouble(t_s);
-  o.stdError = static_cast<float>(sigma_range_m);
-  o.minSensorDistance = 0.0f;
-  o.maxSensorDistance = kBsRangesMaxDistance_m;
-  mrpt::obs::CObservationBeaconRanges::TMeasurement z;
-  z.beaconID = kBsBeaconId;
-  z.sensedDistance = static_cast<float>(range_m);
-  o.sensedData.push_back(z);
-  return o;
-}
-
 std::string flags(const std::vector<char>& v) { return std::string(v.begin(), v.end()); }
 
 class Recorder : public fusion::ClosedLoopObserver {
@@ -182,7 +167,7 @@ class Recorder : public fusion::ClosedLoopObserver {
     // the UAV's next epoch and everything after it belongs there (log.h).
     if (e.measured_displacement_m) {
       const auto& n = config_.closed_loop.filter.noise;
-      const double s = n.dr_sigma_floor_m + n.dr_sigma_fraction * e.measured_displacement_m->norm();
+      const double s = detail::dr_sigma_m(n, *e.measured_displacement_m);
       writer_.write(
           pose_obs(uav_label(m, UavStream::kDr), t, *e.measured_displacement_m, s * s * Eigen::Matrix3d::Identity()));
       odometry_m_[m] += e.measured_displacement_m->head<2>();
@@ -319,12 +304,8 @@ localization::BeaconMap bs_ranges_beacon_map() {
 }
 
 std::string mission_beacons_ini_text(const MissionConfig& config) {
-  // A noise-free beacon (sigma 0) still needs a positive likelihood width in the stock apps:
-  // 1 mm, the smallest range sigma the filters assume.
-  constexpr double kMinRangesStd_m = 1e-3;
   std::ostringstream s;
-  s << mrpt_logs::beacons_ini_text(bs_ranges_beacon_map(),
-                                   std::max(config.closed_loop.simulator.sigma_range_m, kMinRangesStd_m));
+  s << mrpt_logs::beacons_ini_text(bs_ranges_beacon_map(), detail::stock_beacon_ranges_std_m(config));
   // The prior every UAV starts from: the start cube's x-y extent; heading 0, the odometry's
   // axes being the BS frame's.
   const placement::Scenario& sc = config.placement.scenario;

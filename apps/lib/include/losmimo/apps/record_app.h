@@ -21,6 +21,9 @@ struct RecordAppOptions {
   std::vector<std::string> overrides;  // "section.key=value"
   std::string out_path;
   bool replace = false;  // replace an existing out_path (default: refuse, exit 2)
+  // UAVs whose stream is also written for stock ro-localization (rawlog/ro_export.h): a UAV
+  // outside the mission or given twice is refused (exit 2) before any work.
+  std::vector<int> ro_export_uavs{};
 };
 int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostream& err);
 
