@@ -10,12 +10,13 @@
 // draws around the start (+-0.5 m box, any heading), which the small mission hardly leaves.
 //
 // The stock run is not reproducible even with its random_seed: valgrind reports reads of
-// uninitialised memory in its likelihood path (Debian 2.5.8), and about 4 runs in 10 collapse
+// uninitialised memory in its likelihood path (Debian 2.5.8), and about half the runs collapse
 // onto one particle at the first step (ESS 1/M). Measured over 30 runs of this mission (5000
-// particles, ~1.5 s each): final x-y error 0.15-1.09 m, x-y RMSE 0.18-0.89 m, final radial error
-// (2-D estimate against the 3-D true range) up to 1.2 m in a collapsed run, 0.005 m otherwise.
-// The bounds take the collapsed runs in; a wrong frame alignment, odometry composition or
-// ground-truth origin fails the exact checks above.
+// particles, ~1.5 s each): final x-y error 0.16-1.16 m, x-y RMSE 0.19-0.94 m, final radial error
+// (the 2-D estimate's distance to the BS against the measured range) up to 1.26 m in a
+// collapsed run, 0.01 m otherwise. The bounds take the collapsed runs in (a start or map off by
+// metres fails them); a wrong frame alignment, odometry composition or ground-truth origin fails
+// the exact checks above.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -34,9 +35,9 @@ namespace losmimo::rawlog {
 namespace {
 
 constexpr double kPrintTolerance_m = 1.5e-3;  // the app prints poses to 1 mm
-constexpr double kFinalErrorBound_m = 1.5;    // measured up to 1.09 m
-constexpr double kRmseBound_m = 1.2;          // measured up to 0.89 m
-constexpr double kRadialBound_m = 1.5;        // measured up to 1.2 m
+constexpr double kFinalErrorBound_m = 2.0;    // measured up to 1.16 m
+constexpr double kRmseBound_m = 1.5;          // measured up to 0.94 m
+constexpr double kRadialBound_m = 2.0;        // measured up to 1.26 m
 
 std::vector<Eigen::Vector2d> poses(const std::string& text, const std::string& prefix) {
   const std::regex re(prefix + R"(: \(([-0-9.]+),([-0-9.]+),([-0-9.]+)deg\))");
@@ -55,9 +56,9 @@ TEST(StockRoLocalization, RecordedMission_OneUavsExportRunsToTheEndWithinBoundsO
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   apps::RecordAppOptions o;
-  o.overrides = {"scenario.bs_rows=2",  "scenario.bs_cols=2",     "scenario.num_uavs=4",
+  o.overrides = {"scenario.bs_rows=2",      "scenario.bs_cols=2",          "scenario.num_uavs=4",
                  "errors.sigma_act_m=0.02", "placement.max_iterations=12", "closed_loop.refine=false",
-                 "mission.seed=11",     "mission.start_seed=5"};
+                 "mission.seed=11",         "mission.start_seed=5"};
   o.out_path = dir + "/run.rawlog";
   o.ro_export_uavs = {0};
   std::ostringstream rec_out, rec_err;

@@ -85,7 +85,8 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
       ro_exports->write(options.out_path, out);
     } catch (const std::exception& e) {
       ro_exports->discard();
-      print_error(err, kApp, std::string("--ro-export: ") + e.what() + " (the log is complete: " + options.out_path + ")");
+      print_error(err, kApp,
+                  std::string("--ro-export: ") + e.what() + " (the log is complete: " + options.out_path + ")");
       return kExitFailure;
     }
     if (r.run.run.faulted()) {  // the log is complete up to the fault (END_OF_LOG has the status)

@@ -27,8 +27,9 @@ RoExportOutputs RoExportOutputs::create(const std::string& log_path, const std::
   std::set<int> seen;
   for (int u : uavs) {
     if (u < 0 || u >= num_uavs)
-      throw common::InputError("--ro-export: UAV " + std::to_string(u) + " is not in the mission ([scenario] num_uavs = " +
-                                   std::to_string(num_uavs) + ": UAVs 0 .. " + std::to_string(num_uavs - 1) + ")",
+      throw common::InputError("--ro-export: UAV " + std::to_string(u) +
+                                   " is not in the mission ([scenario] num_uavs = " + std::to_string(num_uavs) +
+                                   ": UAVs 0 .. " + std::to_string(num_uavs - 1) + ")",
                                "--ro-export");
     if (!seen.insert(u).second)
       throw common::InputError("--ro-export: UAV " + std::to_string(u) + " is given twice", "--ro-export");
@@ -60,9 +61,9 @@ void RoExportOutputs::write(const std::string& log_path, std::ostream& out) {
     common::StagedFile &rawlog_file = u.files[0], &ini = u.files[1], &truth = u.files[2];
     rawlog::write_ro_rawlog(ro, rawlog_file.path());
     write_text(truth.path(), rawlog::ro_ground_truth_text(ro));
-    write_text(ini.path(), rawlog::ro_localization_ini_text(ro, {file_name(rawlog_file.final_path()),
-                                                                 file_name(truth.final_path()),
-                                                                 file_name(u.log_output_dir)}));
+    write_text(ini.path(),
+               rawlog::ro_localization_ini_text(ro, {file_name(rawlog_file.final_path()), file_name(truth.final_path()),
+                                                     file_name(u.log_output_dir)}));
     for (common::StagedFile& f : u.files) f.publish();
     int ranges = 0;
     for (const rawlog::RoFrame& f : ro.frames) ranges += f.range_m ? 1 : 0;

@@ -15,8 +15,7 @@ class RoExportOutputs {
   // 0 .. num_uavs - 1 or one given twice; then stages each UAV's three files beside log_path
   // (rawlog::ro_export_paths), refusing existing ones unless `replace` (OutputExistsError).
   // What it staged before a refusal is removed.
-  static RoExportOutputs create(const std::string& log_path, const std::vector<int>& uavs, int num_uavs,
-                                bool replace);
+  static RoExportOutputs create(const std::string& log_path, const std::vector<int>& uavs, int num_uavs, bool replace);
   // Reads the complete log at log_path back, writes and publishes every UAV's files, and says
   // where they are on `out`. Throws common::InputError (a UAV that reported nothing) or
   // std::runtime_error.

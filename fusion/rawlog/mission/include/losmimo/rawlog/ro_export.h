@@ -48,16 +48,16 @@ inline constexpr int kRoRandomSeed = 1;
 struct RoFrame {
   int epoch = 0;
   Eigen::Vector2d increment_m = Eigen::Vector2d::Zero();  // robot frame = BS frame (heading 0)
-  double increment_sigma_m = 0.0;                          // per axis
-  std::optional<double> range_m;                           // to the BS beacon (kBsBeaconId)
-  Eigen::Vector2d truth_m = Eigen::Vector2d::Zero();       // true (x, y), BS frame
+  double increment_sigma_m = 0.0;                         // per axis
+  std::optional<double> range_m;                          // to the BS beacon (kBsBeaconId)
+  Eigen::Vector2d truth_m = Eigen::Vector2d::Zero();      // true (x, y), BS frame
 };
 
 struct RoExport {
   int uav = 0;
   Eigen::Vector2d start_m = Eigen::Vector2d::Zero();  // [OdometryEstimation] (x, y), heading 0
-  double range_sigma_m = 0.0;                          // the readings' stdError (the beacon's sigma)
-  double beacon_ranges_std_m = 0.0;                    // the config's beaconRangesStd
+  double range_sigma_m = 0.0;                         // the readings' stdError (the beacon's sigma)
+  double beacon_ranges_std_m = 0.0;                   // the config's beaconRangesStd
   double epoch_period_s = 1.0;
   std::vector<RoFrame> frames;
 };
