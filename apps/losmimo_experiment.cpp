@@ -17,6 +17,7 @@
 #endif
 
 #include "losmimo/apps/experiment_app.h"
+#include "losmimo/apps/experiment_scene.h"
 #include "losmimo/coevaluation/extensions.h"
 #include "losmimo/experiment/channel_sweeps.h"
 #include "version_flag.h"
@@ -70,6 +71,9 @@ int main(int argc, char** argv) {
                      "continue the interrupted run of this output folder (same config; finished points are kept)");
   app.add_flag("--replace", options.replace,
                "replace the results already in the output folder (default: refuse, exit 2)");
+  app.add_flag("--scene", options.scene,
+               "also write paths.3Dscene (the path runs and the BS array, for MRPT's SceneViewer3D) beside paths.png");
+  options.scene_writer = losmimo::apps::write_experiment_scene;
 
   losmimo::apps::MergeOptions merge_options;
   CLI::App* merge = app.add_subcommand("merge", "merge the folders of shards 0..N-1 into one result");

@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
   app.add_option("--out", options.out_path, "output rawlog (gzip), written as <out>.partial until complete")
       ->required();
   app.add_flag("--replace", options.replace, "replace an existing --out file (default: refuse, exit 2)");
+  app.add_flag("--scene", options.scene,
+               "also write <out without .rawlog>.3Dscene, the mission as a 3-D scene for MRPT's SceneViewer3D");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -21,6 +21,10 @@ struct RecordAppOptions {
   std::vector<std::string> overrides;  // "section.key=value"
   std::string out_path;
   bool replace = false;  // replace an existing out_path (default: refuse, exit 2)
+  // --scene: also "<out without .rawlog>.3Dscene", the recorded mission read back from the log
+  // as an MRPT 3-D scene (docs/scenes.md), staged and checked like the log (an existing one is
+  // refused unless `replace`); it is written after the log is complete.
+  bool scene = false;
 };
 int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostream& err);
 
