@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <stdexcept>
 
@@ -147,6 +148,10 @@ TEST(SceneFile, SameContent_SameBytes_OtherContent_OtherBytes) {
   SceneContent other = hand_content();
   other.tracks[0].believed_m[4].x() += 1e-6;
   EXPECT_NE(a, scene_file_bytes(other));
+  // The reader can tell: a truncated file does not load.
+  const fs::path cut = temp_file("cut.3Dscene");
+  std::ofstream(cut, std::ios::binary) << a.substr(0, a.size() / 2);
+  EXPECT_FALSE(load_scene(cut.string()).loaded);
 }
 
 TEST(SceneFile, InconsistentContent_Refused) {
