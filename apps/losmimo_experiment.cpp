@@ -80,6 +80,8 @@ int main(int argc, char** argv) {
   merge->add_option("dirs", merge_options.shard_dirs, "shard folders (written with --shard i/N)")->required();
   merge->add_option("--out", merge_options.out_dir, "output directory")->capture_default_str();
   merge->add_flag("--replace", merge_options.replace, "replace the results already in the output folder");
+  merge->add_flag("--scene", merge_options.scene, "also write paths.3Dscene (as without merge)");
+  merge_options.scene_writer = losmimo::apps::write_experiment_scene;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -91,7 +93,13 @@ int main(int argc, char** argv) {
   if (resume_option->count() > 0) options.resume_dir = resume_dir;
   losmimo::experiment::ExperimentExtensions extensions = losmimo::coevaluation::experiment_extensions();
   for (auto& e : losmimo::experiment::channel_sweep_extensions()) extensions.push_back(std::move(e));
-  if (merge->parsed()) return losmimo::apps::merge_experiment_app(merge_options, extensions, std::cout, std::cerr);
+  if (merge->parsed()) {
+    if (options.scene) {  // given before `merge`: the run's flag, not the merge's
+      std::cerr << "losmimo-experiment: --scene: give it after `merge` (merge ... --scene)\n";
+      return 2;
+    }
+    return losmimo::apps::merge_experiment_app(merge_options, extensions, std::cout, std::cerr);
+  }
 
 #ifdef LOSMIMO_WITH_MPI
   if (launched_by_mpirun()) {

@@ -141,6 +141,26 @@ TEST(SceneSources, ExperimentPathRuns_TruePathsFromPathsCsvAndBsArray) {
     }
   }
   EXPECT_TRUE(s.names_with("gd_no_error/uav01/cov/").empty());  // exact positions: no belief
+
+  // The same run in two shards (2 threads), merged with --scene: the same bytes.
+  std::vector<std::string> shards;
+  for (const char* i : {"0", "1"}) {
+    apps::ExperimentOptions shard = o;
+    shard.scene = false;
+    shard.threads = 2;
+    shard.shard = std::string(i) + "/2";
+    shard.out_dir = (dir.parent_path() / ("shard" + std::string(i))).string();
+    ASSERT_EQ(apps::run_experiment_app(shard, {}, out, err), 0) << err.str();
+    shards.push_back(*shard.out_dir);
+  }
+  apps::MergeOptions m;
+  m.shard_dirs = shards;
+  m.out_dir = (dir.parent_path() / "merged").string();
+  m.scene = true;
+  m.scene_writer = apps::write_experiment_scene;
+  ASSERT_EQ(apps::merge_experiment_app(m, {}, out, err), 0) << err.str();
+  EXPECT_EQ(test_support::read_file(fs::path(m.out_dir) / "paths.3Dscene"),
+            test_support::read_file(dir / "paths.3Dscene"));
 }
 
 TEST(SceneSources, RecordedMission_TruthAndLoggedBeliefsAsTheReplayFindsThem) {

@@ -141,14 +141,8 @@ bool load_checkpoint(const StagedDir& staged, const ExperimentOptions& options, 
 
 // --scene's refusals, before any work.
 void check_scene_option(const ExperimentOptions& options, const ExperimentSettings& settings) {
-  if (!options.scene) return;
-  if (!options.scene_writer) throw InputError("--scene: this program has no scene writer");
-  if (options.shard) throw InputError("--scene: not with --shard (a shard records no path)");
-  if (!records_paths(settings)) {
-    throw InputError(
-        "--scene: this run records no path (it needs [experiment] paths = true, fig1_trials > 0, the sigma_loc or "
-        "sigma_act sweep and GD or BF among the algorithms)");
-  }
+  if (options.scene && options.shard) throw InputError("--scene: not with --shard (a shard records no path)");
+  detail::check_scene_request(options.scene, static_cast<bool>(options.scene_writer), settings);
 }
 
 // paths.3Dscene into the staging folder, beside paths.png.

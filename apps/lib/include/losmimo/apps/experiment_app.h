@@ -58,6 +58,10 @@ struct MergeOptions {
   std::vector<std::string> shard_dirs;
   std::string out_dir = "results";
   bool replace = false;  // as ExperimentOptions::replace
+  // --scene: as ExperimentOptions::scene, for the merged run.
+  bool scene = false;
+  std::function<void(const experiment::ExperimentSettings&, const experiment::ExperimentResults&, const std::string&)>
+      scene_writer{};
 };
 // `losmimo-experiment merge DIR...`: merges finished shard folders (their manifests say kind =
 // shard, their files and records verify, same config, every shard of 0..N-1 exactly once) into

@@ -1,7 +1,7 @@
 #pragma once
 // A run drawn as an MRPT 3-D scene (`.3Dscene`, an mrpt::opengl::COpenGLScene serialized with
 // MRPT's CArchive and gzip-compressed, as COpenGLScene::saveToFile writes it), for MRPT's stock
-// viewer: `SceneViewer3D FILE.3Dscene` (Debian's mrpt-apps). docs/scenes.md shows a scene.
+// viewer: `SceneViewer3D FILE.3Dscene` (Debian's mrpt-apps). docs/scenes.md describes the contents.
 //
 // Frame: the data's own, metres: losmimo's BS frame (BS array in the y-z plane at the origin,
 // boresight +x, z up) for missions and experiment runs, the log's map frame for MRPT's logs.
