@@ -5,12 +5,12 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 #include "losmimo/apps/experiment_app.h"
 #include "losmimo/apps/experiment_scene.h"
 #include "losmimo/apps/record_app.h"
 #include "losmimo/apps/replay_app.h"
+#include "temp_dir.h"
 
 namespace losmimo {
 namespace {
@@ -18,12 +18,7 @@ namespace fs = std::filesystem;
 
 constexpr int kExitBadInput = 2;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("losmimo_scene_options_" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir(const std::string& name) { return test_support::scene_temp_dir(name); }
 
 bool empty_folder(const fs::path& d) { return fs::is_directory(d) && fs::is_empty(d); }
 

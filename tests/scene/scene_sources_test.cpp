@@ -9,7 +9,6 @@
 #include <fstream>
 #include <map>
 #include <sstream>
-#include <unistd.h>
 
 #include "csv_table.h"
 #include "losmimo/apps/experiment_app.h"
@@ -19,6 +18,7 @@
 #include "losmimo/rawlog/log.h"
 #include "losmimo/rawlog_io/reader.h"
 #include "scene_reader.h"
+#include "temp_dir.h"
 #include "support/dependencies.h"
 
 namespace losmimo {
@@ -35,12 +35,7 @@ constexpr double kRelTol = 1e-9;      // CSV values written with 17 digits, elli
 const std::string kMrptData = "/usr/share/mrpt/datasets";
 const std::string kUwbIni = "/usr/share/mrpt/config_files/ro-localization/UWB_localization_demo.ini";
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("losmimo_scene_sources_" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d.parent_path());
-  return d;
-}
+fs::path temp_dir(const std::string& name) { return test_support::scene_temp_dir(name); }
 
 // 2 x 2 BS, 4 UAVs, EKF without refinement: logged beliefs equal replayed ones bit for bit.
 std::string small_mission_ini(const fs::path& dir) {
@@ -99,7 +94,7 @@ Eigen::Matrix3Xd final_truth_of(const std::string& log_path) {
 }
 
 TEST(SceneSources, ExperimentPathRuns_TruePathsFromPathsCsvAndBsArray) {
-  const fs::path dir = temp_dir("experiment");
+  const fs::path dir = temp_dir("experiment") / "run";
   apps::ExperimentOptions o;
   o.out_dir = dir.string();
   o.threads = 1;

@@ -8,10 +8,9 @@
 #include <stdexcept>
 
 #include <mrpt/opengl/CText.h>
-#include <unistd.h>
-
 #include "losmimo/scene/scene.h"
 #include "scene_reader.h"
+#include "temp_dir.h"
 
 namespace losmimo::scene {
 namespace {
@@ -22,9 +21,8 @@ constexpr double kFloatTol_m = 1e-4;  // MRPT keeps positions as float: ~6e-5 m 
 constexpr double kExact = 1e-12;
 
 fs::path temp_file(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("losmimo_scene_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
+  fs::create_directories(test_support::scene_temp_root());
+  return test_support::scene_temp_root() / name;
 }
 
 // A 2 x 2 array at 0.25 m, two beacons, one UAV with 3 true and 25 believed positions near 1 km.
