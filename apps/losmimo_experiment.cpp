@@ -17,6 +17,7 @@
 #endif
 
 #include "losmimo/apps/experiment_app.h"
+#include "losmimo/apps/experiment_scene.h"
 #include "losmimo/coevaluation/extensions.h"
 #include "losmimo/experiment/channel_sweeps.h"
 #include "version_flag.h"
@@ -70,12 +71,17 @@ int main(int argc, char** argv) {
                      "continue the interrupted run of this output folder (same config; finished points are kept)");
   app.add_flag("--replace", options.replace,
                "replace the results already in the output folder (default: refuse, exit 2)");
+  app.add_flag("--scene", options.scene,
+               "also write paths.3Dscene (the path runs and the BS array, for MRPT's SceneViewer3D) beside paths.png");
+  options.scene_writer = losmimo::apps::write_experiment_scene;
 
   losmimo::apps::MergeOptions merge_options;
   CLI::App* merge = app.add_subcommand("merge", "merge the folders of shards 0..N-1 into one result");
   merge->add_option("dirs", merge_options.shard_dirs, "shard folders (written with --shard i/N)")->required();
   merge->add_option("--out", merge_options.out_dir, "output directory")->capture_default_str();
   merge->add_flag("--replace", merge_options.replace, "replace the results already in the output folder");
+  merge->add_flag("--scene", merge_options.scene, "also write paths.3Dscene (as without merge)");
+  merge_options.scene_writer = losmimo::apps::write_experiment_scene;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -87,7 +93,13 @@ int main(int argc, char** argv) {
   if (resume_option->count() > 0) options.resume_dir = resume_dir;
   losmimo::experiment::ExperimentExtensions extensions = losmimo::coevaluation::experiment_extensions();
   for (auto& e : losmimo::experiment::channel_sweep_extensions()) extensions.push_back(std::move(e));
-  if (merge->parsed()) return losmimo::apps::merge_experiment_app(merge_options, extensions, std::cout, std::cerr);
+  if (merge->parsed()) {
+    if (options.scene) {  // given before `merge`: the run's flag, not the merge's
+      std::cerr << "losmimo-experiment: --scene: give it after `merge` (merge ... --scene)\n";
+      return 2;
+    }
+    return losmimo::apps::merge_experiment_app(merge_options, extensions, std::cout, std::cerr);
+  }
 
 #ifdef LOSMIMO_WITH_MPI
   if (launched_by_mpirun()) {

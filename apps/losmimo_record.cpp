@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
                  "also write this UAV's stream for stock ro-localization beside the log: <out>.uavNN.ro.rawlog, "
                  ".ro.ini, .ro_truth.txt (repeatable)");
   app.add_flag("--replace", options.replace, "replace an existing --out file (default: refuse, exit 2)");
+  app.add_flag("--scene", options.scene,
+               "also write <out without .rawlog>.3Dscene, the mission as a 3-D scene for MRPT's SceneViewer3D");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

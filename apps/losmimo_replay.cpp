@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
   CLI::Option* out_option =
       app.add_option("--out", options.out_dir, "write estimates.csv, epochs.csv, summary.csv into this new folder");
   app.add_flag("--replace", options.replace, "replace an earlier replay in the --out folder (default: refuse, exit 2)");
+  app.add_flag("--scene", options.scene,
+               "also write scene.3Dscene into the --out folder: the replay as a 3-D scene for MRPT's SceneViewer3D");
   app.add_flag("--strict", options.strict,
                "stop at object classes the reader cannot bound, instead of parsing them in the sandbox");
   app.add_option("--beacons", options.beacons_path,

@@ -121,5 +121,5 @@ set(CPACK_DEBIAN_PACKAGE_SECTION science)
 # libraries.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "gnuplot-nox")
-set(CPACK_DEBIAN_PACKAGE_SUGGESTS "libeigen3-dev, libceres-dev, libmrpt-bayes-dev, libmrpt-obs-dev, zlib1g-dev")
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "libeigen3-dev, libceres-dev, libmrpt-bayes-dev, libmrpt-obs-dev, libmrpt-opengl-dev, zlib1g-dev")
 include(CPack)

@@ -139,6 +139,18 @@ bool load_checkpoint(const StagedDir& staged, const ExperimentOptions& options, 
   return shard;
 }
 
+// --scene's refusals, before any work.
+void check_scene_option(const ExperimentOptions& options, const ExperimentSettings& settings) {
+  if (options.scene && options.shard) throw InputError("--scene: not with --shard (a shard records no path)");
+  detail::check_scene_request(options.scene, static_cast<bool>(options.scene_writer), settings);
+}
+
+// paths.3Dscene into the staging folder, beside paths.png.
+void write_scene(const ExperimentOptions& options, const ExperimentSettings& settings, const ExperimentResults& results,
+                 const fs::path& stage) {
+  if (options.scene) options.scene_writer(settings, results, (stage / "paths.3Dscene").string());
+}
+
 // MPI: every rank runs its slice in memory; rank 0 gathers, verifies, merges and writes. Each
 // rank's part starts with the line "isa <name>" (its kernels' instruction set).
 int run_collective(const ExperimentOptions& options, const ExperimentExtensions& extensions,
@@ -189,6 +201,7 @@ int run_collective(const ExperimentOptions& options, const ExperimentExtensions&
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   StagedDir staged = StagedDir::create(dir, options.replace, common::StaleStaging::kRefuse);
+  write_scene(options, settings, results, staged.path());
   RunTiming timing{wall_s, threads * collective.size};
   for (const auto& [name, ranks] : ranks_per_isa) timing.isa += (timing.isa.empty() ? "" : "+") + name;
   detail::finish_and_publish(staged, "experiment", settings, extensions, results, timing, false, out, err);
@@ -221,6 +234,7 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
     if (resume && collective) throw InputError("--resume runs in one process: not under MPI (mpirun)");
     if (options.shard && collective) throw InputError("--shard and MPI (mpirun) cannot be combined");
     settings = load_settings(options, extensions);
+    check_scene_option(options, settings);
     isa = kernel_isa_name();
     if (options.shard) std::tie(slice.shard_index, slice.shard_count) = parse_shard(*options.shard);
     if (collective) {
@@ -318,6 +332,7 @@ int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensi
     if (!records_part || !trials_part || !positions_part) throw std::runtime_error("writing the partial files failed");
     fs::rename(stage / "trials.csv.partial", stage / "trials.csv");
     fs::rename(stage / "positions.csv.partial", stage / "positions.csv");
+    write_scene(options, settings, results, stage);
     detail::finish_and_publish(*staged, "experiment", settings, extensions, results, timing, true, out, err);
     return kExitOk;
   } catch (...) {

@@ -12,6 +12,7 @@
 
 #include "losmimo/common/atomic_file.h"
 #include "losmimo/common/format.h"
+#include "losmimo/common/input_error.h"
 #include "losmimo/common/staged_output.h"
 #include "losmimo/experiment/engine.h"
 #include "losmimo/experiment/report.h"
@@ -56,6 +57,18 @@ inline common::Manifest experiment_manifest(const std::string& kind, const exper
                 {"records", std::to_string(records)}};
   m.extra_sections = extra;
   return m;
+}
+
+// --scene (run and merge) is refused before any work without a writer or when the run records
+// no path (experiment::records_paths).
+inline void check_scene_request(bool scene, bool has_writer, const experiment::ExperimentSettings& settings) {
+  if (!scene) return;
+  if (!has_writer) throw common::InputError("--scene: this program has no scene writer");
+  if (!experiment::records_paths(settings)) {
+    throw common::InputError(
+        "--scene: this run records no path (it needs [experiment] paths = true, fig1_trials > 0, the sigma_loc or "
+        "sigma_act sweep and GD or BF among the algorithms)");
+  }
 }
 
 // Writes config.ini and every output into the staging folder, publishes it, prints the

@@ -113,6 +113,7 @@ int merge_experiment_app(const MergeOptions& options, const ExperimentExtensions
         throw InputError(path.string() + ": written for another config than its config.ini: the folder mixes two runs");
       }
     }
+    detail::check_scene_request(options.scene, static_cast<bool>(options.scene_writer), settings);
     results = merge_shard_records(settings, shards, origins);
     if (const std::string note = mixed_isa_note(timing.shard_isas, "shard"); !note.empty()) {
       print_error(err, kApp, "note: " + note);
@@ -126,6 +127,7 @@ int merge_experiment_app(const MergeOptions& options, const ExperimentExtensions
     results.traces = traced_runs(settings);
     timing.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     timing.shards = static_cast<int>(options.shard_dirs.size());
+    if (options.scene) options.scene_writer(settings, results, (staged.path() / "paths.3Dscene").string());
     detail::finish_and_publish(staged, "merged", settings, extensions, results, timing, false, out, err);
     return kExitOk;
   } catch (const common::OutputExistsError& e) {

@@ -18,6 +18,7 @@
 #include "losmimo/mrpt_logs/mrpt_app_config.h"
 #include "losmimo/mrpt_logs/range_replay.h"
 #include "messages.h"
+#include "rawlog_scenes.h"
 #include "replay_outputs.h"
 
 namespace losmimo::apps {
@@ -109,6 +110,7 @@ int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std
     ro = range_options(options, cfg ? &*cfg : nullptr);
     if (options.out_given && options.out_dir.empty())
       throw common::InputError("--out '': an output folder is required");
+    check_scene_option(options.scene, options.out_dir);
     if (!options.out_dir.empty())
       common::StagedDir::check(options.out_dir, options.replace, common::StaleStaging::kDiscard);
     if (!options.beacons_path.empty()) {
@@ -167,6 +169,7 @@ int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std
         summary << "key,value\n";
         for (const auto& [k, v] : rows) summary << k << ",\"" << v << "\"\n";
         common::write_file_atomically((dir / "summary.csv").string(), summary.str());
+        if (options.scene) scene::write_scene_file(range_scene(result, beacons), (dir / "scene.3Dscene").string());
       },
       err, kApp);
   if (published != kExitOk) return published;

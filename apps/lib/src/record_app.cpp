@@ -13,8 +13,11 @@
 #include "losmimo/common/staged_output.h"
 #include "losmimo/common/test_hook.h"
 #include "losmimo/experiment/extension.h"
+#include "losmimo/rawlog/log.h"
 #include "losmimo/rawlog/recorder.h"
+#include "losmimo/rawlog_io/reader.h"
 #include "kernel_isa.h"
+#include "rawlog_scenes.h"
 #include "messages.h"
 #include "record_ro_export.h"
 
@@ -24,11 +27,22 @@ using namespace rawlog;
 
 namespace {
 constexpr const char* kApp = "losmimo-record";
+
+// The scene of the log just published, read back as losmimo-replay reads it.
+void write_record_scene(const std::string& log_path, common::StagedFile& staged_scene) {
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::open_file(log_path, {});
+  const MissionLog log = load_mission_log(reader);
+  const std::string bytes = scene::scene_file_bytes(mission_scene(log, nullptr));
+  std::ofstream f(staged_scene.path(), std::ios::binary);
+  if (!f.write(bytes.data(), static_cast<std::streamsize>(bytes.size())) || !f.flush())
+    throw std::runtime_error(staged_scene.path() + ": cannot write");
+  staged_scene.publish();
 }
+}  // namespace
 
 int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostream& err) {
   MissionConfig config;
-  std::optional<common::StagedFile> staged, staged_beacons;
+  std::optional<common::StagedFile> staged, staged_beacons, staged_scene;
   std::optional<RoExportOutputs> ro_exports;
   try {
     common::IniConfig ini =
@@ -54,10 +68,13 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
       staged_beacons.emplace(common::StagedFile::create(beacons_ini_path(options.out_path), options.replace));
       ro_exports.emplace(RoExportOutputs::create(options.out_path, options.ro_export_uavs,
                                                  config.placement.scenario.num_uavs, options.replace));
+      if (options.scene)
+        staged_scene.emplace(common::StagedFile::create(scene_path_beside(options.out_path), options.replace));
     } catch (...) {
-      std::error_code ignored;  // the staged log was just created, empty: no litter from a refused run
+      std::error_code ignored;  // the staged files were just created, empty: no litter from a refused run
       std::filesystem::remove(staged->path(), ignored);
       if (staged_beacons) std::filesystem::remove(staged_beacons->path(), ignored);
+      if (ro_exports) ro_exports->discard();
       throw;
     }
   } catch (...) {
@@ -88,6 +105,17 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
       print_error(err, kApp,
                   std::string("--ro-export: ") + e.what() + " (the log is complete: " + options.out_path + ")");
       return kExitFailure;
+    }
+    if (staged_scene) {
+      try {
+        write_record_scene(staged->final_path(), *staged_scene);
+      } catch (const std::exception& e) {
+        std::error_code ignored;  // no half-written scene
+        std::filesystem::remove(staged_scene->path(), ignored);
+        print_error(err, kApp, std::string("--scene: ") + e.what() + " (the log is complete)");
+        return kExitFailure;
+      }
+      out << "losmimo-record: 3-D scene for MRPT's SceneViewer3D: " << staged_scene->final_path() << "\n";
     }
     if (r.run.run.faulted()) {  // the log is complete up to the fault (END_OF_LOG has the status)
       err << "losmimo-record: run ended by a fault: " << r.run.run.fault << "\n";

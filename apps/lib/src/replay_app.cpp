@@ -12,6 +12,7 @@
 #include "losmimo/rawlog/replay.h"
 #include "kernel_isa.h"
 #include "messages.h"
+#include "rawlog_scenes.h"
 #include "replay_outputs.h"
 
 namespace losmimo::apps {
@@ -64,6 +65,7 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
     kernel_isa_name();  // a bad LOSMIMO_ISA stops here, exit code 2
     if (options.out_given && options.out_dir.empty())
       throw common::InputError("--out '': an output folder is required");
+    check_scene_option(options.scene, options.out_dir);
     if (!options.out_dir.empty())
       common::StagedDir::check(options.out_dir, options.replace, common::StaleStaging::kDiscard);
   } catch (...) {
@@ -99,7 +101,11 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
   const int code = !complete ? kExitFailure : log.run_faulted() ? kExitFault : kExitOk;
   const int published = publish_replay_outputs(
       options.out_dir, options.replace, complete, code,
-      [&](const std::filesystem::path& dir) { write_replay_csv(log, result, dir.string()); }, err, kApp);
+      [&](const std::filesystem::path& dir) {
+        write_replay_csv(log, result, dir.string());
+        if (options.scene) scene::write_scene_file(mission_scene(log, &result), (dir / "scene.3Dscene").string());
+      },
+      err, kApp);
   if (published != kExitOk) return published;
   for (const auto& [k, v] : rawlog::replay_summary_rows(log, result, false)) out << k << " = " << v << "\n";
   if (!complete) {

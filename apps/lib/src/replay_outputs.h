@@ -16,6 +16,12 @@
 
 namespace losmimo::apps {
 
+// --scene writes into the --out folder: refused without one.
+inline void check_scene_option(bool scene, const std::string& out_dir) {
+  if (scene && out_dir.empty())
+    throw common::InputError("--scene: writes scene.3Dscene into the --out folder: give --out DIR");
+}
+
 // Called inside a catch (...) around reading and replaying `rawlog_path`: bad input and a file
 // that cannot be opened exit 2, anything else is a failed replay (exit 1).
 inline int report_replay_error(std::ostream& err, const std::string& app, const std::string& rawlog_path) {

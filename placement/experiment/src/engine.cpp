@@ -154,11 +154,21 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
   return results;
 }
 
+namespace {
+bool has_builtin_sweep(const ExperimentSettings& s) { return s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct); }
+bool is_traced(Algorithm a) { return a == Algorithm::kGd || a == Algorithm::kBf; }
+}  // namespace
+
+bool records_paths(const ExperimentSettings& s) {
+  return s.paths && s.fig1_trials > 0 && has_builtin_sweep(s) &&
+         std::any_of(s.algorithms.begin(), s.algorithms.end(), is_traced);
+}
+
 std::vector<TracedRun> traced_runs(const ExperimentSettings& s) {
   std::vector<TracedRun> traces;
-  const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
+  const bool builtin = has_builtin_sweep(s);
   for (const Algorithm a : s.algorithms) {
-    if (!builtin || (a != Algorithm::kGd && a != Algorithm::kBf)) continue;
+    if (!builtin || !is_traced(a)) continue;
     for (int t = 0; t < s.fig1_trials; ++t) traces.push_back({a, t, run_traced(s, a, t, s.paths && t == 0)});
   }
   // The path figure's runs under the largest actuation error, from trial 0's start.
@@ -166,8 +176,7 @@ std::vector<TracedRun> traced_runs(const ExperimentSettings& s) {
   if (s.paths && s.fig1_trials > 0 && act) {
     const double sigma = *std::max_element(act->values.begin(), act->values.end());
     for (const Algorithm a : s.algorithms) {
-      if (sigma > 0.0 && (a == Algorithm::kGd || a == Algorithm::kBf))
-        traces.push_back({a, 0, run_path(s, a, 0, sigma), sigma});
+      if (sigma > 0.0 && is_traced(a)) traces.push_back({a, 0, run_path(s, a, 0, sigma), sigma});
     }
   }
   return traces;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "losmimo/experiment/engine.h"
 #include "losmimo/experiment/extension.h"
 
 namespace losmimo::apps {
@@ -40,6 +41,13 @@ struct ExperimentOptions {
   // is replaced whole; without it the run refuses (exit 2) before any work.
   bool replace = false;
   const ExperimentCollective* collective = nullptr;  // MPI: ranks split the jobs, rank 0 writes
+  // --scene: paths.3Dscene beside paths.png, written by `scene_writer` (given the settings, the
+  // results and the file; apps/experiment_scene.h) into the output folder with the rest. Refused
+  // (exit 2, before any work) without a writer, with --shard, or when the run records no path
+  // (experiment::records_paths).
+  bool scene = false;
+  std::function<void(const experiment::ExperimentSettings&, const experiment::ExperimentResults&, const std::string&)>
+      scene_writer{};
 };
 // The output folder holds one run or nothing: everything is written into `<dir>.partial/` and
 // renamed into place when complete (common/staged_output.h), with losmimo-run.ini last.
@@ -50,6 +58,10 @@ struct MergeOptions {
   std::vector<std::string> shard_dirs;
   std::string out_dir = "results";
   bool replace = false;  // as ExperimentOptions::replace
+  // --scene: as ExperimentOptions::scene, for the merged run.
+  bool scene = false;
+  std::function<void(const experiment::ExperimentSettings&, const experiment::ExperimentResults&, const std::string&)>
+      scene_writer{};
 };
 // `losmimo-experiment merge DIR...`: merges finished shard folders (their manifests say kind =
 // shard, their files and records verify, same config, every shard of 0..N-1 exactly once) into

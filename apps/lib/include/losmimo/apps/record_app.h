@@ -24,6 +24,10 @@ struct RecordAppOptions {
   // UAVs whose stream is also written for stock ro-localization (rawlog/ro_export.h): a UAV
   // outside the mission or given twice is refused (exit 2) before any work.
   std::vector<int> ro_export_uavs{};
+  // --scene: also "<out without .rawlog>.3Dscene", the recorded mission read back from the log
+  // as an MRPT 3-D scene (docs/scenes.md), staged and checked like the log (an existing one is
+  // refused unless `replace`); it is written after the log is complete.
+  bool scene = false;
 };
 int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostream& err);
 

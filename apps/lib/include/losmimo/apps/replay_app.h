@@ -41,6 +41,9 @@ struct ReplayAppOptions {
   // prior, range noise, particles, ground truth. Explicit options win over it.
   std::string mrpt_config{};
   std::string ground_truth{};  // ro-localization's groundTruthFile format ("k x y phi" rows)
+  // --scene: scene.3Dscene in the --out folder (required: without it, exit 2), the replay as an
+  // MRPT 3-D scene (docs/scenes.md): truth, beliefs and covariances, BS array and beacons.
+  bool scene = false;
 };
 int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostream& err);
 // The range-only replay (options.beacons_path or options.mrpt_config set), same exit codes: 2 also for a log with no

@@ -61,5 +61,8 @@ int num_sweep_points(const ExperimentSettings& settings);
 // recorded and GD and BF run again from trial 0's start under the largest sigma_act of the
 // sweep (run_path).
 std::vector<TracedRun> traced_runs(const ExperimentSettings& settings);
+// Whether traced_runs records at least one path (trial 0's Fig 1 runs of GD or BF with
+// [experiment] paths): what the path figure and the app's --scene need, known before any run.
+bool records_paths(const ExperimentSettings& settings);
 
 }  // namespace losmimo::experiment
