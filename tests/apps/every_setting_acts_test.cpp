@@ -267,6 +267,7 @@ const std::vector<Value> kValues = {
     {experiment::kSweepRicianK, "experiment.sweeps", "rician_k_db, sigma_act_m"},
     {experiment::kSweepCsiSnr, "experiment.sweeps", "csi_snr_db, sigma_act_m"},
     {experiment::kSweepBsAntennas, "experiment.sweeps", "bs_antennas, sigma_act_m"},
+    {experiment::kSweepNumUavs, "experiment.sweeps", "num_uavs, sigma_act_m"},
     {coevaluation::kSweepBeaconNoise, "experiment.sweeps", "beacon_noise_m, sigma_act_m"},
     {coevaluation::kSweepBeaconOutage, "experiment.sweeps", "beacon_outage, sigma_act_m"},
     {"beacon_noise_m_without_pf_ceres_ura", "experiment.sweeps", "beacon_noise_m, sigma_act_m"},
