@@ -65,6 +65,13 @@ std::string plot_lines(const ExperimentSettings& s, const std::string& dat, int 
   return g.str();
 }
 
+// The x range of a log2 axis over the sweep's points, half a factor of 2 beyond each end (also
+// for a single point, where gnuplot finds no range of its own).
+std::string log_xrange(const SweepPoints& p) {
+  const auto [lo, hi] = std::minmax_element(p.values.begin(), p.values.end());
+  return "set xrange [" + csv(*lo / std::sqrt(2.0)) + ":" + csv(*hi * std::sqrt(2.0)) + "]\n";
+}
+
 // num_uavs.dat / .gp: the panels' means and CIs against Nr (reproducible).
 void write_metrics_figure(const ExperimentSettings& s, const SweepPoints& p, const std::vector<SummaryRow>& rows,
                           const fs::path& dir) {
@@ -90,8 +97,8 @@ void write_metrics_figure(const ExperimentSettings& s, const SweepPoints& p, con
   std::ostringstream g;
   g << "set terminal pngcairo size 1300,1200 enhanced font 'Sans,10'\nset output 'num_uavs.png'\n"
     << "set grid\nset key top left font ',9'\nset datafile missing 'nan'\nset logscale x 2\n"
-    << "set xlabel 'UAVs N_r'\nset multiplot layout 3,2 title 'num\\_uavs: means and 95% CI over " << s.trials
-    << " trials'\n";
+    << log_xrange(p) << "set xlabel 'UAVs N_r'\nset multiplot layout 3,2 title 'num\\_uavs: means and 95% CI over "
+    << s.trials << " trials'\n";
   for (std::size_t m = 0; m < panels().size(); ++m) {
     g << "set title '" << panels()[m].second << "'\nset ylabel ''\n"
       << (m == 0 ? "set yrange [0:1.05]\n" : "set autoscale y\n") << "plot "
@@ -117,7 +124,7 @@ void write_timing_figure(const ExperimentSettings& s, const SweepPoints& p, cons
   std::ostringstream g;
   g << "set terminal pngcairo size 900,600 enhanced font 'Sans,10'\nset output 'num_uavs_timing.png'\n"
     << "set grid\nset key top left\nset datafile missing 'nan'\nset logscale xy\n"
-    << "set title 'wall time per iteration (this run, " << s.trials << " trials, not reproducible)'\n"
+    << log_xrange(p) << "set title 'wall time per iteration (this run, " << s.trials << " trials, not reproducible)'\n"
     << "set xlabel 'UAVs N_r'\nset ylabel 's per iteration'\nplot ";
   for (std::size_t i = 0; i < s.algorithms.size(); ++i) {
     g << (i ? ", " : "") << "'num_uavs_timing.dat' index " << i << " using 1:2 with linespoints lw 2 lc rgb '"
