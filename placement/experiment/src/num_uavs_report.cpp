@@ -22,7 +22,7 @@ const std::vector<std::pair<MetricId, const char*>>& panels() {
       {metrics::kFinalIcn, "ICN at the final positions"},
       {metrics::kSumRateZfBpsHz, "ZF sum rate [bit/s/Hz]"},
       {metrics::kSumRateNvBpsHz, "NV sum rate [bit/s/Hz]"},
-      {metrics::kDistPlacementM, "placement distance per UAV [m]"},
+      {metrics::kDistTotalM, "distance flown per UAV [m] (placement and BF probes)"},
       {metrics::kIterations, "iterations"},
   };
   return kPanels;
@@ -136,7 +136,7 @@ void write_timing_figure(const ExperimentSettings& s, const SweepPoints& p, cons
 std::string results_table(const ExperimentSettings& s, const SweepPoints& p, const NumUavsSweepSettings& c,
                           const std::vector<SummaryRow>& rows) {
   std::ostringstream o;
-  o << "| Nr | Nt | algorithm | ICN | ZF sum rate | NV sum rate | MF SINR [dB] | distance per UAV [m] | iterations "
+  o << "| Nr | Nt | algorithm | ICN | ZF sum rate | NV sum rate | MF SINR [dB] | flown per UAV [m] | iterations "
        "| converged |\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (const double v : p.values) {
     const int n = static_cast<int>(v);
@@ -150,7 +150,7 @@ std::string results_table(const ExperimentSettings& s, const SweepPoints& p, con
       }
       o << cell(r, metrics::kFinalIcn, 3) << " | " << cell(r, metrics::kSumRateZfBpsHz, 1) << " | "
         << cell(r, metrics::kSumRateNvBpsHz, 1) << " | " << cell(r, metrics::kSinrMfDb, 1) << " | "
-        << cell(r, metrics::kDistPlacementM, 2) << " | " << cell(r, metrics::kIterations, 0) << " | "
+        << cell(r, metrics::kDistTotalM, 2) << " | " << cell(r, metrics::kIterations, 0) << " | "
         << fmt(r->converged_fraction, 2) << " |\n";
     }
   }

@@ -17,7 +17,7 @@
 // the trials this process ran) and the figures step writes it to num_uavs_timing.csv; the
 // report.md section quotes it (report.md's first line holds the wall time already). A merged
 // or resumed run lacks (some of) it and says so.
-// Figures: num_uavs.png (.dat, .gp): final ICN, ZF and NV sum rates, distance per UAV and
+// Figures: num_uavs.png (.dat, .gp): final ICN, ZF and NV sum rates, distance flown per UAV and
 // iterations against Nr, one line per algorithm.
 
 #include <memory>
