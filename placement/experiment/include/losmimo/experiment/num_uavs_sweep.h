@@ -14,7 +14,7 @@
 // and translation columns (capacity_claims.h) come too.
 // Timing (time per iteration) is not reproducible, so it stays out of trials.csv and
 // summary.csv: the extension's runs log their wall time (per point and algorithm, summed over
-// the trials this process ran) and the figures step writes it to num_uavs_timing.csv; the
+// the trials this process ran) and the figures step plots it (num_uavs_timing.png, .dat: not a .csv); the
 // report.md section quotes it (report.md's first line holds the wall time already). A merged
 // or resumed run lacks (some of) it and says so.
 // Figures: num_uavs.png (.dat, .gp): final ICN, ZF and NV sum rates, distance flown per UAV and
@@ -80,7 +80,7 @@ class NumUavsTiming {
 std::vector<TrialRecord> run_num_uavs_trial(const ExperimentSettings& settings, const NumUavsSweepSettings& sweep,
                                             int point, int trial, NumUavsTiming* timing = nullptr);
 
-// num_uavs.png (.dat, .gp) and num_uavs_timing.csv (warnings if gnuplot is missing), and the
+// num_uavs.png (.dat, .gp) and num_uavs_timing.png (.dat, .gp) (warnings if gnuplot is missing), and the
 // report section.
 std::vector<std::string> write_num_uavs_figure(const ExperimentSettings& settings, const std::vector<SummaryRow>& rows,
                                                const NumUavsTiming& timing, const std::string& out_dir);
