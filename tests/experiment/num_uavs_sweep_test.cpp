@@ -93,6 +93,18 @@ TEST(NumUavsSweep, EveryPoint_RunsItsSwarmOnItsArrayAndGdBeatsRandom) {
   EXPECT_GT(improved, 0) << "GD moved no swarm: the comparison above tested nothing";
 }
 
+TEST(NumUavsSweep, Threads_GiveTheSameRecordsWithTheClaimColumns) {
+  const ExperimentSettings s = settings_of("algorithms = random, gd, cap\ncapacity_columns = true\n");
+  const ExperimentResults one = run_experiment(s, {num_uavs_extension()}, 1);
+  const ExperimentResults two = run_experiment(s, {num_uavs_extension()}, 2);
+  ASSERT_EQ(one.records.size(), two.records.size());
+  for (std::size_t i = 0; i < one.records.size(); ++i) {
+    EXPECT_EQ(one.records[i].algorithm, two.records[i].algorithm) << i;
+    EXPECT_TRUE(one.records[i].final_m == two.records[i].final_m) << i;
+    EXPECT_EQ(one.records[i].extra, two.records[i].extra) << i;  // NaN-free here: compared exactly
+  }
+}
+
 TEST(CapacityClaims, Quantiles_MatchHandValues) {
   std::vector<double> one_to_twenty;
   for (int i = 20; i >= 1; --i) one_to_twenty.push_back(i);
