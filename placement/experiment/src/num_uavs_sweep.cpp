@@ -112,6 +112,11 @@ std::unique_ptr<NumUavsTiming::Entry> NumUavsTiming::find(int point, const std::
   return it == impl_->entries.end() ? nullptr : std::make_unique<Entry>(it->second);
 }
 
+void NumUavsTiming::clear() {
+  const std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->entries.clear();
+}
+
 std::vector<TrialRecord> run_num_uavs_trial(const ExperimentSettings& s, const NumUavsSweepSettings& sweep, int point,
                                             int trial, NumUavsTiming* timing) {
   const SweepPoints* points = s.sweep(kSweepNumUavs);
@@ -154,8 +159,10 @@ ExperimentExtension num_uavs_extension() {
   e.figures = [timing](const ExperimentSettings& s, const std::vector<SummaryRow>& rows, const std::string& dir) {
     return write_num_uavs_figure(s, rows, timing, dir);
   };
-  e.report_section = [timing](const ExperimentSettings& s, const std::vector<SummaryRow>& rows) {
-    return num_uavs_report_section(s, rows, timing);
+  e.report_section = [timing](const ExperimentSettings& s, const std::vector<SummaryRow>& rows) mutable {
+    std::string section = num_uavs_report_section(s, rows, timing);
+    timing.clear();  // the last reader of this run's timing (figures are written before)
+    return section;
   };
   e.unused_conditions = [](const ExperimentSettings& s) {
     const NumUavsSweepSettings c = load_num_uavs_sweep_settings(s);

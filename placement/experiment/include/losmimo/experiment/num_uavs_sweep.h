@@ -69,6 +69,9 @@ class NumUavsTiming {
   void add(int point, const std::string& algorithm, int iterations, double wall_s);
   // nullptr when no run of (point, algorithm) was timed by this process.
   std::unique_ptr<Entry> find(int point, const std::string& algorithm) const;
+  // Forgets every entry (the extension's report section does, once it has quoted them, so that
+  // another run in the same process starts afresh).
+  void clear();
 
  private:
   struct Impl;
