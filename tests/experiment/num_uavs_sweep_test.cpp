@@ -115,7 +115,7 @@ TEST(CapacityClaims, Quantiles_MatchHandValues) {
   EXPECT_TRUE(std::isnan(median({})));
 }
 
-TEST(CapacityClaims, OrthogonalSwarm_ReachesTheBoundAndRandomDoesNot) {
+TEST(CapacityClaims, OrthogonalSwarm_ReachesTheBoundAndACollocatedOneDoesNot) {
   // GIVEN the paper's 16 UAVs at the rigid URA's slots (orthogonal columns, far field).
   placement::Scenario sc;
   const Eigen::Matrix3Xd ura_m = placement::optimal_ura_positions_m(sc);
