@@ -20,6 +20,7 @@
 #include "losmimo/apps/experiment_scene.h"
 #include "losmimo/coevaluation/extensions.h"
 #include "losmimo/experiment/channel_sweeps.h"
+#include "losmimo/experiment/num_uavs_sweep.h"
 #include "version_flag.h"
 
 namespace {
@@ -93,6 +94,7 @@ int main(int argc, char** argv) {
   if (resume_option->count() > 0) options.resume_dir = resume_dir;
   losmimo::experiment::ExperimentExtensions extensions = losmimo::coevaluation::experiment_extensions();
   for (auto& e : losmimo::experiment::channel_sweep_extensions()) extensions.push_back(std::move(e));
+  extensions.push_back(losmimo::experiment::num_uavs_extension());
   if (merge->parsed()) {
     if (options.scene) {  // given before `merge`: the run's flag, not the merge's
       std::cerr << "losmimo-experiment: --scene: give it after `merge` (merge ... --scene)\n";

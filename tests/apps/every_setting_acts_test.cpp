@@ -37,6 +37,7 @@
 #include "losmimo/coevaluation/coevaluation.h"
 #include "losmimo/coevaluation/extensions.h"
 #include "losmimo/experiment/channel_sweeps.h"
+#include "losmimo/experiment/num_uavs_sweep.h"
 #include "losmimo/experiment/settings.h"
 #include "losmimo/fusion/closed_loop_settings.h"
 #include "losmimo/placement/settings.h"
@@ -74,6 +75,7 @@ const std::vector<TableKey>& every_key() {
     collect(placement::placement_keys(), all);
     collect(experiment::experiment_keys(), all);
     collect(experiment::channel_sweep_keys(), all);
+    collect(experiment::num_uavs_sweep_keys(), all);
     collect(coevaluation::coevaluation_keys(), all);
     collect(fusion::closed_loop_keys(), all);
     collect(rawlog::mission_keys(), all);
@@ -265,6 +267,7 @@ const std::vector<Value> kValues = {
     {experiment::kSweepRicianK, "experiment.sweeps", "rician_k_db, sigma_act_m"},
     {experiment::kSweepCsiSnr, "experiment.sweeps", "csi_snr_db, sigma_act_m"},
     {experiment::kSweepBsAntennas, "experiment.sweeps", "bs_antennas, sigma_act_m"},
+    {experiment::kSweepNumUavs, "experiment.sweeps", "num_uavs, sigma_act_m"},
     {coevaluation::kSweepBeaconNoise, "experiment.sweeps", "beacon_noise_m, sigma_act_m"},
     {coevaluation::kSweepBeaconOutage, "experiment.sweeps", "beacon_outage, sigma_act_m"},
     {"beacon_noise_m_without_pf_ceres_ura", "experiment.sweeps", "beacon_noise_m, sigma_act_m"},
@@ -365,6 +368,11 @@ Context experiment_context(const std::string& sweep, const Assignments& tiny, co
   Assignments all = {{"experiment.sweeps", sweep},  {"experiment.trials", "1"}, {"experiment.threads", "1"},
                      {"experiment.plots", "false"}, {"scenario.num_uavs", "4"}, {"placement.max_iterations", "40"},
                      {"gd.stall_window", "3"}};
+  // The swarm-size sweep sets the swarm size itself (a --set scenario.num_uavs is refused there).
+  if (sweep == experiment::kSweepNumUavs) {
+    all.erase(std::remove_if(all.begin(), all.end(), [](const auto& a) { return a.first == "scenario.num_uavs"; }),
+              all.end());
+  }
   all.insert(all.end(), tiny.begin(), tiny.end());
   Context c;
   c.name = name.empty() ? sweep : name;
@@ -373,6 +381,7 @@ Context experiment_context(const std::string& sweep, const Assignments& tiny, co
     static const experiment::ExperimentExtensions extensions = [] {
       experiment::ExperimentExtensions e = coevaluation::experiment_extensions();
       for (auto& x : experiment::channel_sweep_extensions()) e.push_back(std::move(x));
+      e.push_back(experiment::num_uavs_extension());
       return e;
     }();
     apps::ExperimentOptions o;
@@ -502,6 +511,12 @@ const std::vector<Context>& contexts() {
                                                         {"bf.stall_window", "3"},
                                                         {"errors.sigma_loc_m", "0.05"},
                                                         {"errors.sigma_act_m", "0.05"}}),
+      // Four UAVs on the smallest square array (2 x 2), GD and the capacity planner.
+      experiment_context(experiment::kSweepNumUavs, {{"experiment.num_uavs_values", "4"},
+                                                     {"experiment.algorithms", "gd, bf, ura, cap"},
+                                                     {"bf.stall_window", "3"},
+                                                     {"errors.sigma_loc_m", "0.05"},
+                                                     {"errors.sigma_act_m", "0.05"}}),
       // ura_ekf needs as many UAVs as BS antennas; a 1 m array spacing makes the UAVs' ideal
       // spacing 5 m (lambda x / (n d)), which they reach within the tiny runs.
       experiment_context(coevaluation::kSweepBeaconNoise, {{"scenario.bs_rows", "2"},

@@ -10,6 +10,7 @@
 #include "losmimo/apps/unused_keys.h"
 #include "losmimo/coevaluation/coevaluation.h"
 #include "losmimo/experiment/channel_sweeps.h"
+#include "losmimo/experiment/num_uavs_sweep.h"
 #include "losmimo/experiment/settings.h"
 #include "losmimo/fusion/closed_loop_settings.h"
 #include "losmimo/placement/settings.h"
@@ -35,6 +36,8 @@ std::string reference() {
          "\n## Channel sweeps (`losmimo-experiment`, `[experiment] sweeps = rician_k_db, csi_snr_db, "
          "bs_antennas`)\n\n" +
          experiment::channel_sweep_keys().markdown() +
+         "\n## Swarm-size sweep (`losmimo-experiment`, `[experiment] sweeps = num_uavs`)\n\n" +
+         experiment::num_uavs_sweep_keys().markdown() +
          "\n## Closed loop (`losmimo-record`, and the co-evaluation's shared settings)\n\n" +
          fusion::closed_loop_keys().markdown() + "\n## Mission (`losmimo-record`)\n\n" +
          rawlog::mission_keys().markdown() +

@@ -19,11 +19,13 @@ const std::string kCsiSnr = "csi_snr_db";
 const std::string kBsAntennas = "bs_antennas";
 const std::string kBeaconNoise = "beacon_noise_m";
 const std::string kBeaconOutage = "beacon_outage";
+const std::string kNumUavs = "num_uavs";
 
 // The sweeps other than `keep`.
 std::vector<std::string> sweeps_but(const std::vector<std::string>& keep) {
   std::vector<std::string> out;
-  for (const std::string& s : {kSigmaLoc, kSigmaAct, kRicianK, kCsiSnr, kBsAntennas, kBeaconNoise, kBeaconOutage}) {
+  for (const std::string& s :
+       {kSigmaLoc, kSigmaAct, kRicianK, kCsiSnr, kBsAntennas, kBeaconNoise, kBeaconOutage, kNumUavs}) {
     if (std::find(keep.begin(), keep.end(), s) == keep.end()) out.push_back(s);
   }
   return out;
@@ -76,6 +78,16 @@ const std::vector<UnusedKeys>& unused_keys() {
       {{"experiment.rician_k_db_values"}, sweeps_but({kRicianK}), "the rician_k_db sweep's points"},
       {{"experiment.csi_snr_db_values"}, sweeps_but({kCsiSnr}), "the csi_snr_db sweep's points"},
       {{"experiment.bs_antennas_values"}, sweeps_but({kBsAntennas}), "the bs_antennas sweep's points"},
+      {{"experiment.num_uavs_values", "experiment.num_uavs_array", "experiment.num_uavs_cap_max"},
+       sweeps_but({kNumUavs}),
+       "the num_uavs sweep's points and array"},
+      {{"scenario.num_uavs"}, {kNumUavs}, "the sweep sets it (experiment.num_uavs_values)"},
+      {{"scenario.bs_rows", "scenario.bs_cols"},
+       {"num_uavs_array = square"},
+       "the num_uavs sweep sets the array (n x n, the smallest n with n^2 >= Nr)"},
+      {{"experiment.num_uavs_cap_max"},
+       {kNoCap, "no num_uavs point above num_uavs_cap_max"},
+       "cap runs at every point of the num_uavs sweep (or not at all)"},
       {{"errors.sigma_loc_m"}, {kSigmaLoc}, "the sweep sets it (experiment.sigma_loc_values_m)"},
       {{"errors.sigma_act_m"}, {kSigmaAct}, "the sweep sets it (experiment.sigma_act_values_m)"},
       {{"channel.rician_k_db"}, {kRicianK}, "the sweep sets it (experiment.rician_k_db_values)"},
@@ -94,7 +106,7 @@ const std::vector<UnusedKeys>& unused_keys() {
        {kBeaconNoise, kBeaconOutage},
        "the co-evaluation sweeps run [coevaluation] algorithms and outage_algorithms"},
       {{"experiment.fig1_trials", "experiment.paths", "experiment.readings", "experiment.reading_trials"},
-       {kRicianK, kCsiSnr, kBsAntennas, kBeaconNoise, kBeaconOutage},
+       {kRicianK, kCsiSnr, kBsAntennas, kBeaconNoise, kBeaconOutage, kNumUavs},
        "Fig 1's traces, the path figure and the readings belong to the built-in sweeps sigma_loc_m and sigma_act_m"},
       // Parts of a run that its other settings switch off.
       {{"gd.*"}, {kNoGd}, "the built-in and channel sweeps run GD only when [experiment] algorithms lists gd"},

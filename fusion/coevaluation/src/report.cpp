@@ -235,12 +235,12 @@ std::string matched_error_section(const std::vector<SummaryRow>& rows, const std
   return md.str();
 }
 
-std::string beacon_noise_report_section(const experiment::ExperimentSettings& s, const std::vector<SummaryRow>& rows) {
-  const CoevaluationSettings c = load_coevaluation_settings(s);
-  const std::vector<double>& values = s.sweep(kSweepBeaconNoise)->values;
-  const double v0 = *std::min_element(values.begin(), values.end());
-  const double vmax = *std::max_element(values.begin(), values.end());
-  const std::vector<std::string> algorithms = algorithms_of(rows, kSweepBeaconNoise);
+namespace {
+
+// The section's opening and its table of every algorithm at the smallest and largest noise.
+std::string beacon_noise_table(const experiment::ExperimentSettings& s, const CoevaluationSettings& c,
+                               const std::vector<SummaryRow>& rows, const std::vector<std::string>& algorithms,
+                               double v0, double vmax) {
   std::ostringstream md;
   md << "## Co-evaluation: beacon noise (`beacon_noise_m`)\n\n"
      << "The swept value is the beacon-only cross-range error per axis at R = "
@@ -273,7 +273,13 @@ std::string beacon_noise_report_section(const experiment::ExperimentSettings& s,
     }
   }
 
-  md << matched_error_section(rows, values);
+  return md.str();
+}
+
+// The NV SINR loss from the smallest to the largest noise, and the verdict on the refinement's target.
+std::string nv_sinr_loss_section(const experiment::ExperimentSettings& s, const std::vector<SummaryRow>& rows,
+                                 const std::vector<std::string>& algorithms, double v0, double vmax) {
+  std::ostringstream md;
   md << "\n### NV SINR loss from beacon noise " << fmt(v0, 3) << " to " << fmt(vmax, 3) << " m\n\n"
      << "| algorithm | NV SINR at " << fmt(v0, 3) << " [dB] | NV SINR at " << fmt(vmax, 3)
      << " [dB] | loss [dB] | 95% half-width |\n|---|---|---|---|---|\n";
@@ -329,6 +335,20 @@ std::string beacon_noise_report_section(const experiment::ExperimentSettings& s,
          << "--set placement.max_iterations=300`.\n";
     }
   }
+  return md.str();
+}
+
+}  // namespace
+
+std::string beacon_noise_report_section(const experiment::ExperimentSettings& s, const std::vector<SummaryRow>& rows) {
+  const CoevaluationSettings c = load_coevaluation_settings(s);
+  const std::vector<double>& values = s.sweep(kSweepBeaconNoise)->values;
+  const double v0 = *std::min_element(values.begin(), values.end());
+  const double vmax = *std::max_element(values.begin(), values.end());
+  const std::vector<std::string> algorithms = algorithms_of(rows, kSweepBeaconNoise);
+  std::ostringstream md;
+  md << beacon_noise_table(s, c, rows, algorithms, v0, vmax) << matched_error_section(rows, values)
+     << nv_sinr_loss_section(s, rows, algorithms, v0, vmax);
   md << "\nResolved co-evaluation settings:\n\n```ini\n" << to_ini(c) << "```\n";
   return md.str();
 }

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "losmimo/common/format.h"
+#include "losmimo/experiment/capacity_claims.h"
 #include "losmimo/experiment/metrics.h"
 
 namespace losmimo::experiment {
@@ -108,6 +109,10 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
             const auto iteration = [](int i) { return i >= 0 ? static_cast<double>(i) : std::nan(""); };
             r.extra.push_back(iteration(r.icn050_iteration));
             r.extra.push_back(iteration(r.icn095_iteration));
+          }
+          if (s.capacity_columns) {
+            for (const double v : capacity_claim_columns(r)) r.extra.push_back(v);
+            r.capacity_claims = {};
           }
         }
       } catch (...) {

@@ -46,25 +46,19 @@ void write_paths_csv(std::ostream& out, const std::vector<TracedRun>& traces) {
   }
 }
 
-std::string write_path_figure(const ExperimentSettings& s, const std::vector<TracedRun>& traces,
-                              const std::string& dir) {
-  const std::vector<const TracedRun*> runs = runs_with_path(traces);
-  if (runs.empty()) return "";
-  namespace fs = std::filesystem;
-  common::write_stream_atomically((fs::path(dir) / "paths.csv").string(),
-                                  [&](std::ostream& o) { write_paths_csv(o, traces); });
+namespace {
 
-  // paths.dat: index i < n: run i's paths, one block per UAV ("x y z uav"); index n + i: its
-  // starts and ends ("x y z uav stage fy fz", stage 0 start, 1 end; fy, fz the lateral position
-  // folded into one lateral period, below); index 2n: the rigid URA slots.
-  //
-  // The fold: orthogonality depends on each UAV's direction from the BS only modulo the lateral
-  // period lambda / d_t (in direction cosines; lambda x / d_t = 20 m at 1 km on the paper's
-  // setup), so GD and BF end on lattice-equivalent points anywhere in the cube. Folding every
-  // direction into one period around the boresight and drawing it at the cube centre's depth
-  // shows the URA's grid (up to a common shift, which changes no ICN).
+// paths.dat: index i < n: run i's paths, one block per UAV ("x y z uav"); index n + i: its
+// starts and ends ("x y z uav stage fy fz", stage 0 start, 1 end; fy, fz the lateral position
+// folded into one lateral period, below); index 2n: the rigid URA slots.
+//
+// The fold: orthogonality depends on each UAV's direction from the BS only modulo the lateral
+// period lambda / d_t (in direction cosines; lambda x / d_t = 20 m at 1 km on the paper's
+// setup), so GD and BF end on lattice-equivalent points anywhere in the cube. Folding every
+// direction into one period around the boresight and drawing it at the cube centre's depth
+// shows the URA's grid (up to a common shift, which changes no ICN).
+std::string paths_dat(const ExperimentSettings& s, const std::vector<const TracedRun*>& runs) {
   std::ostringstream dat;
-  const std::size_t n = runs.size();
   const placement::Scenario& sc = s.placement.scenario;
   const double depth_m = sc.cube_center_m.x();
   const double period = sc.wavelength_m() / sc.bs_spacing_m;  // in direction cosines
@@ -102,8 +96,15 @@ std::string write_path_figure(const ExperimentSettings& s, const std::vector<Tra
   } else {
     dat << "nan nan nan\n";
   }
-  common::write_file_atomically((fs::path(dir) / "paths.dat").string(), dat.str());
+  return dat.str();
+}
 
+// paths.gp: per run a lateral view, a side view and the folded directions (rows of the multiplot).
+std::string paths_gp(const ExperimentSettings& s, const std::vector<const TracedRun*>& runs) {
+  const std::size_t n = runs.size();
+  const placement::Scenario& sc = s.placement.scenario;
+  const double depth_m = sc.cube_center_m.x();
+  const double period = sc.wavelength_m() / sc.bs_spacing_m;  // in direction cosines
   std::ostringstream gp;
   gp << "set terminal pngcairo size " << 520 * n << ",1560 enhanced font 'Sans,10'\n"
      << "set output 'paths.png'\nset datafile missing 'nan'\nset size ratio -1\nset grid\nunset key\n"
@@ -140,7 +141,20 @@ std::string write_path_figure(const ExperimentSettings& s, const std::vector<Tra
        << " using 6:($5 == 1 ? $7 : 1/0):4 with points pt 7 ps 1.6 lc palette\n";
   }
   gp << "unset multiplot\n";
-  common::write_file_atomically((fs::path(dir) / "paths.gp").string(), gp.str());
+  return gp.str();
+}
+
+}  // namespace
+
+std::string write_path_figure(const ExperimentSettings& s, const std::vector<TracedRun>& traces,
+                              const std::string& dir) {
+  const std::vector<const TracedRun*> runs = runs_with_path(traces);
+  if (runs.empty()) return "";
+  namespace fs = std::filesystem;
+  common::write_stream_atomically((fs::path(dir) / "paths.csv").string(),
+                                  [&](std::ostream& o) { write_paths_csv(o, traces); });
+  common::write_file_atomically((fs::path(dir) / "paths.dat").string(), paths_dat(s, runs));
+  common::write_file_atomically((fs::path(dir) / "paths.gp").string(), paths_gp(s, runs));
   return "paths";
 }
 

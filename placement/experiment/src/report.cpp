@@ -1,12 +1,13 @@
 #include "losmimo/common/atomic_file.h"
 #include "losmimo/common/format.h"
 #include "losmimo/common/gnuplot.h"
-#include "losmimo/experiment/paths.h"
+#include "losmimo/experiment/capacity_claims.h"
 #include "losmimo/experiment/readings.h"
 #include "losmimo/experiment/report.h"
 
 #include "losmimo/experiment/shards.h"
 #include "losmimo/placement/ura.h"
+#include "report_parts.h"
 
 #include <cmath>
 #include <cstdio>
@@ -22,47 +23,6 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string fmt(double v, int precision = 3) { return common::format_fixed(v, precision); }
-
-const SummaryRow* find_row(const std::vector<SummaryRow>& rows, const std::string& sweep, double value,
-                           const std::string& a) {
-  for (const SummaryRow& r : rows) {
-    if (r.sweep == sweep && std::abs(r.value - value) < 1e-12 && r.algorithm == a) return &r;
-  }
-  return nullptr;
-}
-
-// Gnuplot data block per algorithm of a sweep: value and (mean, ci) of the given metrics.
-std::string sweep_dat(const std::vector<SummaryRow>& rows, const std::string& sweep,
-                      const std::vector<Algorithm>& algorithms, const std::vector<MetricId>& metrics) {
-  std::ostringstream o;
-  for (const Algorithm a : algorithms) {
-    o << "# algorithm " << to_string(a) << ": value";
-    for (const MetricId m : metrics) o << " " << m.name << "_mean " << m.name << "_ci95";
-    o << "\n";
-    for (const SummaryRow& r : rows) {
-      if (r.sweep != sweep || r.algorithm != to_string(a)) continue;
-      o << r.value;
-      for (const MetricId m : metrics) {
-        const Estimate* e = r.metric(m);
-        o << " " << (e && std::isfinite(e->mean) ? e->mean : NAN) << " "
-          << (e && std::isfinite(e->ci95) ? e->ci95 : 0.0);
-      }
-      o << "\n";
-    }
-    o << "\n\n";
-  }
-  return o.str();
-}
-
-std::string gp_header(const std::string& png, const std::string& title, const std::string& xlabel,
-                      const std::string& ylabel) {
-  std::ostringstream o;
-  o << "set terminal pngcairo size 1000,650 enhanced font 'Sans,11'\n"
-    << "set output '" << png << "'\n"
-    << "set title '" << title << "'\nset xlabel '" << xlabel << "'\nset ylabel '" << ylabel << "'\n"
-    << "set grid\nset key outside right\nset datafile missing 'nan'\n";
-  return o.str();
-}
 
 }  // namespace
 
@@ -149,116 +109,10 @@ std::string describe(const RunTiming& t) {
   return o.str();
 }
 
-ReportOutcome write_figures_and_report(const ExperimentSettings& s, const ExperimentExtensions& extensions,
-                                       const ExperimentResults& results, const std::vector<SummaryRow>& rows,
-                                       const std::string& out_dir, const RunTiming& timing) {
-  ReportOutcome outcome;
-  const fs::path dir(out_dir);
-  std::vector<Algorithm> movers;
-  for (const Algorithm a : s.algorithms) {
-    if (a != Algorithm::kRandom) movers.push_back(a);
-  }
+namespace {
 
-  // Fig 1: traces.
-  std::vector<std::string> stems;
-  if (!results.traces.empty()) {
-    stems = {"fig1a", "fig1b"};
-    std::ostringstream dat;
-    std::vector<Algorithm> traced;
-    for (const TracedRun& t : results.traces) {
-      if (t.trial != 0 || !t.fig1()) continue;
-      traced.push_back(t.algorithm);
-      dat << "# " << to_string(t.algorithm) << ": iteration icn sinr_nv_db sinr_zf_db sinr_mf_db\n";
-      for (const placement::IterationRecord& r : t.result.trace) {
-        dat << r.iteration << " " << r.icn << " " << r.sinr_nv_db << " " << r.sinr_zf_db << " " << r.sinr_mf_db << "\n";
-      }
-      dat << "\n\n";
-    }
-    common::write_file_atomically((dir / "fig1.dat").string(), dat.str());
-    std::ostringstream a, b;
-    a << gp_header("fig1a.png", "Fig 1a: ICN against iteration (no errors)", "iteration", "ICN")
-      << "set yrange [0:1]\nplot ";
-    b << gp_header("fig1b.png", "Fig 1b: SINR of stream 1 against iteration (NV solid, ZF dashed, MF dash-dot)",
-                   "iteration", "SINR [dB]")
-      << "plot ";
-    for (std::size_t i = 0; i < traced.size(); ++i) {
-      const std::string c = algorithm_color(traced[i]);
-      const std::string name = to_string(traced[i]);
-      a << (i ? ", " : "") << "'fig1.dat' index " << i << " using 1:2 with lines lw 2 lc rgb '" << c << "' title '"
-        << name << "' noenhanced";
-      b << (i ? ", " : "") << "'fig1.dat' index " << i << " using 1:3 with lines lw 2 dt 1 lc rgb '" << c << "' title '"
-        << name << " NV' noenhanced, '' index " << i << " using 1:4 with lines lw 2 dt 2 lc rgb '" << c << "' title '"
-        << name << " ZF' noenhanced, '' index " << i << " using 1:5 with lines lw 1 dt 4 lc rgb '#9467bd' title '"
-        << name << " MF'";
-    }
-    common::write_file_atomically((dir / "fig1a.gp").string(), a.str() + "\n");
-    common::write_file_atomically((dir / "fig1b.gp").string(), b.str() + "\n");
-  }
-
-  // The UAVs' paths.
-  const std::string paths_stem = s.paths ? write_path_figure(s, results.traces, out_dir) : "";
-
-  // Fig 2a: distances against sigma_loc.
-  if (s.sweep(kSweepSigmaLoc)) {
-    common::write_file_atomically(
-        (dir / "fig2a.dat").string(),
-        sweep_dat(rows, kSweepSigmaLoc, movers, {metrics::kDistToIcn050M, metrics::kDistToIcn095M}));
-    std::ostringstream g;
-    g << gp_header("fig2a.png", "Fig 2a: mean distance per UAV to ICN 0.5 (solid) and 0.95 (dotted)",
-                   "localization error sigma_{loc} [m]", "distance per UAV [m]")
-      << "plot ";
-    for (std::size_t i = 0; i < movers.size(); ++i) {
-      const std::string c = algorithm_color(movers[i]);
-      const std::string name = to_string(movers[i]);
-      g << (i ? ", " : "") << "'fig2a.dat' index " << i << " using 1:2:3 with yerrorlines lw 2 dt 1 lc rgb '" << c
-        << "' title '" << name << " ICN 0.5' noenhanced, '' index " << i
-        << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '" << c << "' title '" << name << " ICN 0.95' noenhanced";
-    }
-    common::write_file_atomically((dir / "fig2a.gp").string(), g.str() + "\n");
-  }
-
-  // Fig 2b and Fig 3: final SINR.
-  if (s.sweep(kSweepSigmaLoc)) stems.push_back("fig2a");
-  for (const auto& [sweep, stem, xlabel] : {std::tuple<std::string, std::string, std::string>{
-                                                kSweepSigmaLoc, "fig2b", "localization error sigma_{loc} [m]"},
-                                            {kSweepSigmaAct, "fig3", "actuation error sigma_{act} [m]"}}) {
-    if (!s.sweep(sweep)) continue;
-    stems.push_back(stem);
-    common::write_file_atomically(
-        (dir / (stem + ".dat")).string(),
-        sweep_dat(rows, sweep, s.algorithms, {metrics::kSinrNvDb, metrics::kSinrZfDb, metrics::kSinrMfDb}));
-    std::ostringstream g;
-    g << gp_header(stem + ".png",
-                   (stem == "fig2b" ? "Fig 2b" : "Fig 3") +
-                       std::string(": final SINR of stream 1 (NV solid, ZF dotted, MF dash-dot purple)"),
-                   xlabel, "SINR [dB]")
-      << "plot ";
-    for (std::size_t i = 0; i < s.algorithms.size(); ++i) {
-      const std::string c = algorithm_color(s.algorithms[i]);
-      const std::string name = to_string(s.algorithms[i]);
-      g << (i ? ", " : "") << "'" << stem << ".dat' index " << i << " using 1:2:3 with yerrorlines lw 2 dt 1 lc rgb '"
-        << c << "' title '" << name << " NV' noenhanced, '' index " << i
-        << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '" << c << "' title '" << name << " ZF' noenhanced";
-      if (i == 0) g << ", '' index 0 using 1:6 with lines lw 1 dt 4 lc rgb '#9467bd' title 'MF'";
-    }
-    common::write_file_atomically((dir / (stem + ".gp")).string(), g.str() + "\n");
-  }
-
-  if (!paths_stem.empty()) stems.push_back(paths_stem);
-  if (s.plots) {
-    for (std::string& w : common::render_gnuplot(
-             dir.string(), stems,
-             "the fig*.gp scripts were written but not rendered (apt-get install gnuplot-nox, then run gnuplot "
-             "fig*.gp in the output folder)")) {
-      outcome.warnings.push_back(std::move(w));
-    }
-  }
-  for (const ExperimentExtension& e : extensions) {
-    if (!s.sweep(e.sweep) || !e.figures) continue;
-    for (std::string& w : e.figures(s, rows, out_dir)) outcome.warnings.push_back(std::move(w));
-  }
-
-  // report.md
+// report.md's opening: trial count, seed, timing, how values are compared, the figures.
+std::string report_header(const ExperimentSettings& s, const std::vector<std::string>& stems, const RunTiming& timing) {
   std::ostringstream md;
   md << "# losmimo-experiment report\n\n"
      << s.trials << " random starts per sweep point, seed " << s.seed << ", " << describe(timing)
@@ -271,25 +125,20 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
     for (const std::string& stem : stems) md << " ![" << stem << "](" << stem << ".png)";
     md << "\n\n";
   }
-  std::vector<std::string> differences;
-  const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
-  // The readings' paired runs (none unless [experiment] readings): the Why lines' measurements.
-  const ReadingResults readings =
-      builtin ? measure_readings(
-                    s, extensions,
-                    s.threads > 0 ? s.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())))
-              : ReadingResults{};
-  if (!readings.empty()) {
-    common::write_stream_atomically((dir / "readings.csv").string(),
-                                    [&](std::ostream& o) { write_readings_csv(o, readings); });
-  }
-  if (builtin)
-    md << "| # | figure | quantity | paper | measured | 95% CI | n | agrees |\n|---|---|---|---|---|---|---|---|\n";
+  return md.str();
+}
+
+// The table of paper values against the measured means; each disagreement, with its Why line
+// from the readings, goes to `differences`.
+std::string paper_table(const ExperimentSettings& s, const std::vector<SummaryRow>& rows,
+                        const ReadingResults& readings, std::vector<std::string>& differences) {
+  std::ostringstream md;
+  md << "| # | figure | quantity | paper | measured | 95% CI | n | agrees |\n|---|---|---|---|---|---|---|---|\n";
   int number = 0;
-  for (const PaperValue& p : builtin ? paper_values() : std::vector<PaperValue>{}) {
+  for (const PaperValue& p : paper_values()) {
     ++number;
     if (!s.sweep(p.sweep)) continue;
-    const SummaryRow* row = find_row(rows, p.sweep, p.value, p.algorithm);
+    const SummaryRow* row = report_parts::find_row(rows, p.sweep, p.value, p.algorithm);
     const Estimate* e = row ? row->metric(p.metric) : nullptr;
     // Without milestone columns, Fig 1's counts are the runs' iterations (equal when they stop at 0.95).
     if (row && !e && p.metric == metrics::kIterationsToIcn095) e = row->metric(metrics::kIterations);
@@ -316,22 +165,69 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
                             ". Why: " + explain_difference(p, number, readings) + ".");
     }
   }
-  // The abstract's claims: capacity ratio and SINR gain over random placement at the start.
+  return md.str();
+}
+
+// The abstract's claims: capacity ratio and SINR gain over random placement at the first
+// sigma_loc point (empty without that sweep or a random baseline).
+std::string abstract_claims(const ExperimentSettings& s, const std::vector<SummaryRow>& rows) {
   const SweepPoints* loc = s.sweep(kSweepSigmaLoc);
-  const SummaryRow* random0 = loc ? find_row(rows, kSweepSigmaLoc, loc->values.front(), "random") : nullptr;
-  if (random0) {
-    md << "\n## The abstract's claims (at sigma_loc = " << loc->values.front() << ")\n\n"
-       << "| algorithm | NV sum rate / random | NV SINR gain over random [dB] |\n|---|---|---|\n";
-    const Estimate* r_rate = random0->metric(metrics::kSumRateNvBpsHz);
-    const Estimate* r_sinr = random0->metric(metrics::kSinrNvDb);
-    for (const Algorithm a : movers) {
-      const SummaryRow* row = find_row(rows, kSweepSigmaLoc, loc->values.front(), to_string(a));
-      if (!row) continue;
-      md << "| " << to_string(a) << " | " << fmt(row->metric(metrics::kSumRateNvBpsHz)->mean / r_rate->mean, 2)
-         << "x (paper: up to 6x) | " << fmt(row->metric(metrics::kSinrNvDb)->mean - r_sinr->mean, 1)
-         << " (paper: >= 15) |\n";
+  const SummaryRow* random0 =
+      loc ? report_parts::find_row(rows, kSweepSigmaLoc, loc->values.front(), "random") : nullptr;
+  if (!random0) return "";
+  std::ostringstream md;
+  md << "\n## The abstract's claims (at sigma_loc = " << loc->values.front() << ")\n\n"
+     << "| algorithm | NV sum rate / random | NV SINR gain over random [dB] |\n|---|---|---|\n";
+  const Estimate* r_rate = random0->metric(metrics::kSumRateNvBpsHz);
+  const Estimate* r_sinr = random0->metric(metrics::kSinrNvDb);
+  for (const Algorithm a : s.algorithms) {
+    if (a == Algorithm::kRandom) continue;
+    const SummaryRow* row = report_parts::find_row(rows, kSweepSigmaLoc, loc->values.front(), to_string(a));
+    if (!row) continue;
+    md << "| " << to_string(a) << " | " << fmt(row->metric(metrics::kSumRateNvBpsHz)->mean / r_rate->mean, 2)
+       << "x (paper: up to 6x) | " << fmt(row->metric(metrics::kSinrNvDb)->mean - r_sinr->mean, 1)
+       << " (paper: >= 15) |\n";
+  }
+  return md.str();
+}
+
+}  // namespace
+
+ReportOutcome write_figures_and_report(const ExperimentSettings& s, const ExperimentExtensions& extensions,
+                                       const ExperimentResults& results, const std::vector<SummaryRow>& rows,
+                                       const std::string& out_dir, const RunTiming& timing) {
+  ReportOutcome outcome;
+  const fs::path dir(out_dir);
+  const std::vector<std::string> stems = report_parts::write_builtin_figures(s, results, rows, out_dir);
+  if (s.plots) {
+    for (std::string& w : common::render_gnuplot(
+             dir.string(), stems,
+             "the fig*.gp scripts were written but not rendered (apt-get install gnuplot-nox, then run gnuplot "
+             "fig*.gp in the output folder)")) {
+      outcome.warnings.push_back(std::move(w));
     }
   }
+  for (const ExperimentExtension& e : extensions) {
+    if (!s.sweep(e.sweep) || !e.figures) continue;
+    for (std::string& w : e.figures(s, rows, out_dir)) outcome.warnings.push_back(std::move(w));
+  }
+
+  std::ostringstream md;
+  md << report_header(s, stems, timing);
+  std::vector<std::string> differences;
+  const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
+  // The readings' paired runs (none unless [experiment] readings): the Why lines' measurements.
+  const ReadingResults readings =
+      builtin ? measure_readings(
+                    s, extensions,
+                    s.threads > 0 ? s.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())))
+              : ReadingResults{};
+  if (!readings.empty()) {
+    common::write_stream_atomically((dir / "readings.csv").string(),
+                                    [&](std::ostream& o) { write_readings_csv(o, readings); });
+  }
+  if (builtin) md << paper_table(s, rows, readings, differences);
+  md << abstract_claims(s, rows);
   if (builtin) md << "\n## Differences larger than the confidence interval\n\n";
   if (builtin && differences.empty()) md << "None.\n";
   for (const std::string& d : differences) md << "- " << d << "\n";
@@ -339,6 +235,7 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
   for (const ExperimentExtension& e : extensions) {
     if (s.sweep(e.sweep) && e.report_section) md << "\n" << e.report_section(s, rows);
   }
+  if (s.capacity_columns) md << "\n" << capacity_claims_report_section(s, rows);
   common::write_file_atomically((dir / "report.md").string(), md.str());
   return outcome;
 }

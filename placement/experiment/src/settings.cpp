@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "losmimo/experiment/capacity_claims.h"
 #include "losmimo/experiment/extension.h"
 #include "losmimo/experiment/report.h"
 #include "losmimo/placement/swarm.h"
@@ -193,6 +194,11 @@ std::vector<common::Key<ExperimentSettings>> experiment_key_list() {
       K::boolean("experiment", "milestone_columns", &ExperimentSettings::milestone_columns,
                  "trials.csv / summary.csv columns iterations_to_icn050 and iterations_to_icn095", "true")
           .unless_default(),
+      K::boolean("experiment", "capacity_columns", &ExperimentSettings::capacity_columns,
+                 "trials.csv / summary.csv columns capacity_fraction and translation_* (capacity_claims.h), and "
+                 "their report.md section",
+                 "true")
+          .unless_default(),
       K::boolean("experiment", "paths", &ExperimentSettings::paths,
                  "the path figure (paths.csv, paths.png) of the Fig 1 runs and under the largest sigma_act", "false")
           .unless_default(),
@@ -346,6 +352,9 @@ std::vector<std::string> extra_metric_names(const ExperimentSettings& settings,
   std::vector<std::string> names = extension_metric_names(settings, extensions);
   if (settings.milestone_columns) {
     for (const ExtensionMetric& m : milestone_metrics()) names.emplace_back(m.name);
+  }
+  if (settings.capacity_columns) {
+    for (const ExtensionMetric& m : capacity_claim_metrics()) names.emplace_back(m.name);
   }
   return names;
 }

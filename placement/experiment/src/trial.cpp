@@ -6,6 +6,7 @@
 #include <limits>
 #include <memory>
 
+#include "losmimo/experiment/capacity_claims.h"
 #include "losmimo/placement/capacity.h"
 #include "losmimo/placement/metrics.h"
 #include "losmimo/placement/ura.h"
@@ -153,9 +154,12 @@ TrialRecord make_record(const ExperimentSettings& s, const placement::PlacementS
   rec.converged = r.converged();
   rec.status = to_string(r.status);
   const placement::Scenario& scenario = p.scenario;
+  const Eigen::MatrixXcd H_los = placement::ChannelModel(scenario).matrix(r.final_m);
   const placement::FadedLinkMetrics faded =
-      placement::evaluate_link_faded(placement::ChannelModel(scenario).matrix(r.final_m), scenario.noise_variance(),
-                                     p.channel, trial_fading_eval_seed(s, trial));
+      placement::evaluate_link_faded(H_los, scenario.noise_variance(), p.channel, trial_fading_eval_seed(s, trial));
+  if (s.capacity_columns) {
+    rec.capacity_claims = capacity_claim_values(scenario, p.cap.power, H_los, r.start_m, r.final_m);
+  }
   if (metrics) *metrics = faded;
   const placement::LinkMetrics& m = faded.los;
   rec.final_icn = m.icn;

@@ -58,6 +58,9 @@ struct ExperimentSettings {
   // trials.csv and summary.csv get the columns iterations_to_icn050 and iterations_to_icn095
   // (after any extension's), the iteration at which each run first reached that ICN.
   bool milestone_columns = false;
+  // trials.csv and summary.csv get capacity_claim_metrics() (capacity_claims.h) after the
+  // milestone columns, and report.md a section on them.
+  bool capacity_columns = false;
   // The path figure (paths.csv, paths.png): the Fig 1 runs of trial 0 and, under the largest
   // sigma_act of the sweep, GD and BF from the same start.
   bool paths = true;

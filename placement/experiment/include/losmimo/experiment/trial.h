@@ -66,6 +66,8 @@ struct TrialRecord {
   // An extension's metrics, set by handle (ExperimentExtension::metrics; every one, NaN where it
   // does not apply).
   MetricValues extension;
+  // With [experiment] capacity_columns, capacity_claim_metrics()' values (capacity_claims.h).
+  MetricValues capacity_claims;
   // The extra columns (extra_metric_names, extension.h), in that order: the engine fills them
   // from `extension` and the milestones, and clears `extension`.
   std::vector<double> extra;
