@@ -22,7 +22,8 @@ int main(int argc, char** argv) {
       app.add_option("--out", options.out_dir, "write estimates.csv, epochs.csv, summary.csv into this new folder");
   app.add_flag("--replace", options.replace, "replace an earlier replay in the --out folder (default: refuse, exit 2)");
   app.add_flag("--strict", options.strict,
-               "stop at object classes the reader cannot bound, instead of parsing them in the sandbox");
+               "stop at object classes the reader cannot bound, instead of parsing them in the sandbox; bearing-range "
+               "replay: stop (exit 2) at a landmark ID the map lacks (the sandbox still parses the log)");
   app.add_option("--beacons", options.beacons_path,
                  "range-only replay: beacon list file, one 'ID x y z' per line (MRPT's ground-truth beacon files)");
   app.add_option("--landmarks", options.landmarks_path,

@@ -107,9 +107,9 @@ bool uses_bearing_replay(const ReplayAppOptions& options) {
   return !options.landmarks_path.empty() || (!options.mrpt_config.empty() && is_kf_slam_config(options.mrpt_config));
 }
 
-std::string landmark_log_needs_map(const std::string& rawlog_path, bool strict) {
+std::string landmark_log_needs_map(const std::string& rawlog_path) {
   RawlogReaderOptions reader_options;
-  reader_options.foreign = strict ? ForeignObjects::kStop : ForeignObjects::kSandbox;
+  reader_options.foreign = ForeignObjects::kSandbox;
   RawlogReader reader = RawlogReader::open_file(rawlog_path, reader_options);
   const BearingLog log = load_bearing_log(reader);
   if (log.max_readings_per_observation <= 1) return "";
@@ -158,8 +158,10 @@ int run_bearing_replay_app(const ReplayAppOptions& options, std::ostream& out, s
   BearingReplayResult result;
   double filter_wall_s = 0.0;
   try {
+    // --strict here stops at a landmark ID the map lacks; the classes the reader cannot bound
+    // (CSensoryFrame: every kf-slam log) are still parsed in the sandbox, else nothing would load.
     RawlogReaderOptions reader_options;
-    reader_options.foreign = options.strict ? ForeignObjects::kStop : ForeignObjects::kSandbox;
+    reader_options.foreign = ForeignObjects::kSandbox;
     RawlogReader reader = RawlogReader::open_file(options.rawlog_path, reader_options);
     log = load_bearing_log(reader);
     const auto t0 = std::chrono::steady_clock::now();

@@ -86,7 +86,7 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
     // (An incomplete log goes on: its prefix is replayed and the exit code is 1 with where reading stopped.)
     if (!log.ours && read_completely(log)) {
       if (const std::string why = unusable_foreign_log(log); !why.empty()) throw common::InputError(why);
-      if (const std::string why = landmark_log_needs_map(options.rawlog_path, options.strict); !why.empty())
+      if (const std::string why = landmark_log_needs_map(options.rawlog_path); !why.empty())
         throw common::InputError(why);
     }
     try {

@@ -2,7 +2,6 @@
 
 #include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/poses/CPose3D.h>
-#include <mrpt/poses/CPose3DPDF.h>
 
 #include "losmimo/localization/range_az_el.h"
 
@@ -21,15 +20,22 @@ Pose6 from_mrpt(const mrpt::poses::CPose3D& p) {
 }  // namespace
 
 Pose6 compose_pose6(const Pose6& x, const Pose6& u, Matrix6d* J_x, Matrix6d* J_u) {
-  const mrpt::poses::CPose3D px = to_mrpt(x);
-  const mrpt::poses::CPose3D pu = to_mrpt(u);
-  if (J_x || J_u) {
-    mrpt::math::CMatrixDouble66 df_dx, df_du;
-    mrpt::poses::CPose3DPDF::jacobiansPoseComposition(px, pu, df_dx, df_du);
-    if (J_x) *J_x = df_dx.asEigen();
-    if (J_u) *J_u = df_du.asEigen();
-  }
-  return from_mrpt(px + pu);
+  const Pose6 out = from_mrpt(to_mrpt(x) + to_mrpt(u));
+  // Central differences of CPose3D's own composition (header: why not jacobiansPoseComposition).
+  const auto differentiate = [&](bool wrt_x, Matrix6d& J) {
+    constexpr double kStep = 1e-6;
+    for (int i = 0; i < 6; ++i) {
+      Pose6 plus_x = x, minus_x = x, plus_u = u, minus_u = u;
+      (wrt_x ? plus_x : plus_u)(i) += kStep;
+      (wrt_x ? minus_x : minus_u)(i) -= kStep;
+      const Pose6 plus = from_mrpt(to_mrpt(plus_x) + to_mrpt(plus_u));
+      const Pose6 minus = from_mrpt(to_mrpt(minus_x) + to_mrpt(minus_u));
+      J.col(i) = pose6_deviation(plus, minus) / (2.0 * kStep);
+    }
+  };
+  if (J_x) differentiate(true, *J_x);
+  if (J_u) differentiate(false, *J_u);
+  return out;
 }
 
 Pose6 pose6_deviation(const Pose6& a, const Pose6& b) {

@@ -56,6 +56,6 @@ int run_bearing_replay_app(const ReplayAppOptions& options, std::ostream& out, s
 bool uses_bearing_replay(const ReplayAppOptions& options);
 // For a foreign log without a map: the reason to refuse it when its CObservationBearingRange hold several
 // readings (mapped landmarks, not the one BS beacon the mission replay takes), else empty.
-std::string landmark_log_needs_map(const std::string& rawlog_path, bool strict);
+std::string landmark_log_needs_map(const std::string& rawlog_path);
 
 }  // namespace losmimo::apps

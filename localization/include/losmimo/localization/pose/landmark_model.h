@@ -15,7 +15,11 @@
 //   J_pr_x = d(x (-) L)/dx (3x6, MRPT's df_dpose), J_p_pr = R_s^T (df_dpoint).
 // MRPT stores yaw = azimuth and pitch = -elevation: to_range_az_el() converts.
 // Odometry: x' = x (+) u (CPose3D composition, u in the robot frame at the start of the step),
-// with J_x'_x and J_x'_u from CPose3DPDF::jacobiansPoseComposition.
+// with J_x'_x and J_x'_u as central differences (step 1e-6) of that composition in these
+// coordinates. Not CPose3DPDF::jacobiansPoseComposition: in MRPT 2.5.8 its three angle rows
+// come out with the opposite sign on part of the rotation group (e.g. x yaw 1.97, roll -2.89,
+// u yaw -2.87; tests/localization/pose/landmark_model_test.cpp checks ours against central
+// differences at random poses).
 
 #include <cstdint>
 #include <vector>
