@@ -118,8 +118,8 @@ TEST(BearingReplay, LogReadingsAtTheGroundTruthPoses_AgreeWithOurModelToTheSenso
       for (std::size_t k = 0; k + offset < truth.size(); ++k)
         for (const auto& s : log.frames[k].scans)
           for (const auto& r : s.readings) {
-            const Eigen::Vector3d h = localization::landmark_predict(truth[k + offset], s.sensor_on_robot,
-                                                                     *map.find(r.landmark_id));
+            const Eigen::Vector3d h =
+                localization::landmark_predict(truth[k + offset], s.sensor_on_robot, *map.find(r.landmark_id));
             sq += localization::range_az_el_innovation(r.z, h).cwiseAbs2();
             ++n;
           }
@@ -152,6 +152,9 @@ TEST(BearingReplay, NoncenteredLog_UsesTheSensorPose_IgnoringItLocalizesFarWorse
   const double centered = replay(k6d, load(k6d), FilterKind::kEkf).rmse_m;
   const double noncentered = replay(kNoncentered, log, FilterKind::kEkf).rmse_m;
   const double ignored = replay(kNoncentered, log, FilterKind::kEkf, false, true).rmse_m;
+  RecordProperty("rmse_centered_m", std::to_string(centered));
+  RecordProperty("rmse_noncentered_m", std::to_string(noncentered));
+  RecordProperty("rmse_sensor_pose_ignored_m", std::to_string(ignored));
   EXPECT_LT(noncentered, 1.5 * centered);
   EXPECT_GT(ignored, 10.0 * noncentered) << "ignored " << ignored << " noncentered " << noncentered;
 }
@@ -217,7 +220,8 @@ TEST(BearingReplayApp, LandmarkMissingFromTheMap_NamedOnceAndSkipped_StrictStops
   o.strict = true;
   std::ostringstream out2, err2;
   EXPECT_EQ(apps::run_replay_app(o, out2, err2), 2);
-  EXPECT_NE(err2.str().find("landmark ID " + id + " (frame 0) is not in the landmark map (--strict)"), std::string::npos)
+  EXPECT_NE(err2.str().find("landmark ID " + id + " (frame 0) is not in the landmark map (--strict)"),
+            std::string::npos)
       << err2.str();
 }
 

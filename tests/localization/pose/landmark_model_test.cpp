@@ -24,7 +24,8 @@ constexpr int kRandomPoses = 50;
 // Pitch within +-max_pitch_rad: compositions stay away from pitch = +-pi/2, where yaw and roll
 // are not defined (gimbal lock) and the yaw-pitch-roll Jacobians blow up.
 Pose6 random_pose(std::mt19937_64& rng, double position_m, double max_pitch_rad = 1.2) {
-  std::uniform_real_distribution<double> pos(-position_m, position_m), ang(-3.0, 3.0), tilt(-max_pitch_rad, max_pitch_rad);
+  std::uniform_real_distribution<double> pos(-position_m, position_m), ang(-3.0, 3.0),
+      tilt(-max_pitch_rad, max_pitch_rad);
   Pose6 p;
   p << pos(rng), pos(rng), pos(rng), ang(rng), tilt(rng), ang(rng);
   return p;
@@ -111,8 +112,8 @@ TEST(LandmarkModel, JacobianWrtThePose_MatchesCentralDifferences_WithAnOffCentre
     Matrix36d J;
     landmark_predict(robot, sensor, L, &J);
     const Eigen::MatrixXd numeric = test_support::numeric_jacobian(
-        [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return landmark_predict(Pose6(x), sensor, L); }, robot,
-        1e-6, [](const Eigen::VectorXd& a, const Eigen::VectorXd& b) -> Eigen::VectorXd {
+        [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return landmark_predict(Pose6(x), sensor, L); }, robot, 1e-6,
+        [](const Eigen::VectorXd& a, const Eigen::VectorXd& b) -> Eigen::VectorXd {
           return range_az_el_innovation(Eigen::Vector3d(a), Eigen::Vector3d(b));
         });
     EXPECT_LT((J - numeric).cwiseAbs().maxCoeff(), 1e-5) << robot.transpose();
