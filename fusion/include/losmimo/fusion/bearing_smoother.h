@@ -8,8 +8,8 @@
 //   odometry  r = Lk^-1 dev(x_{k-1} (+) u_k, x_k)           Q_k = odometry_noise() at x_{k-1}'s
 //                                                           filter estimate, Q_k = Lk Lk^T
 //   reading   r = diag(1/sigma) (z - range_az_el(p(x_k)))   landmark_predict(), angles wrapped
-// dev() is pose6_deviation (angle differences wrapped). Jacobians are analytic: MRPT's pose
-// composition Jacobians (compose_pose6) and landmark_predict's J_z_x (range_az_el_jacobian
+// dev() is pose6_deviation (angle differences wrapped). Jacobians: the pose
+// composition's (compose_pose6) and landmark_predict's analytic J_z_x (range_az_el_jacobian
 // chained through CPose3D::inverseComposePoint); dev(a, b) is taken with da = I, db = -I.
 // Planar logs keep z, pitch, roll of every pose constant (ceres::SubsetManifold).
 // Seeded by the filter's track; sparse normal Cholesky.

@@ -179,7 +179,7 @@ KfSlamConfig read_kf_slam_config(const std::string& path) {
   const auto yaw = positive("std_sensor_yaw_deg");
   const auto pitch = positive("std_sensor_pitch_deg");
   if (range || yaw || pitch) {
-    // kf-slam's own defaults for the keys a config leaves out (CRangeBearingKFSLAM::TOptions).
+    // A key the config leaves out takes the replay's default (landmark_filter.h: 0.01 m, 0.1 deg).
     c.sensor_sigma =
         Eigen::Vector3d(range.value_or(0.01), yaw.value_or(0.1) * kDegToRad, pitch.value_or(0.1) * kDegToRad);
   }
@@ -190,7 +190,7 @@ KfSlamConfig read_kf_slam_config(const std::string& path) {
   }
   const auto xy = r.number(kSlam, "stdXY_no_odo");
   const auto phi = r.number(kSlam, "stdPhi_no_odo_deg");
-  if (xy || phi) c.no_odometry_sigma = Eigen::Vector2d(xy.value_or(0.1), phi.value_or(4.0) * kDegToRad);
+  if (xy || phi) c.no_odometry_sigma = Eigen::Vector2d(xy.value_or(0.1), phi.value_or(2.0) * kDegToRad);
   c.unused_keys = r.unused();
   return c;
 }

@@ -61,7 +61,7 @@ void write_beacons_ini(const localization::BeaconMap& beacons, const std::string
 //       landmark file, landmark_files.h), ground_truth_file_robot (the robot path), resolved
 //       against the config's folder
 //   [RangeBearingKFSLAM] std_sensor_range [m], std_sensor_yaw_deg, std_sensor_pitch_deg [deg]
-//       (the reading noise; a key left out takes kf-slam's default: 0.01 m, 0.1 deg),
+//       (the reading noise; a key left out takes the replay's default: 0.01 m, 0.1 deg),
 //       std_odo_z_additional [m] (added to the odometry's z sigma), stdXY_no_odo [m],
 //       stdPhi_no_odo_deg (the random walk of a frame without odometry)
 // Every other key is listed in `unused_keys`.
