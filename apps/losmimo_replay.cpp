@@ -24,9 +24,13 @@ int main(int argc, char** argv) {
   app.add_flag("--scene", options.scene,
                "also write scene.3Dscene into the --out folder: the replay as a 3-D scene for MRPT's SceneViewer3D");
   app.add_flag("--strict", options.strict,
-               "stop at object classes the reader cannot bound, instead of parsing them in the sandbox");
+               "stop at object classes the reader cannot bound, instead of parsing them in the sandbox; bearing-range "
+               "replay: stop (exit 2) at a landmark ID the map lacks (the sandbox still parses the log)");
   app.add_option("--beacons", options.beacons_path,
                  "range-only replay: beacon list file, one 'ID x y z' per line (MRPT's ground-truth beacon files)");
+  app.add_option("--landmarks", options.landmarks_path,
+                 "bearing-range replay (CObservationBearingRange logs, e.g. MRPT's kf-slam demos): landmark map in "
+                 "MRPT's ground-truth format, one 'x y z ... ID' per line");
   app.add_option("--initial-pose", options.initial_pose,
                  "range-only: start pose 'x,y,yaw_deg' (default: uniform over the beacons)");
   app.add_option("--initial-sigma", options.initial_sigma, "range-only: start 1-sigma 'xy_m,yaw_deg' (default 0.1,2)");
@@ -35,9 +39,10 @@ int main(int argc, char** argv) {
                  "range-only, --estimator pf: particles (default: the config's sampleSize, else 1000)");
   app.add_option("--mrpt-config", options.mrpt_config,
                  "range-only: a stock ro-localization / pf-localization APP.ini (beacon map, prior, beaconRangesStd, "
-                 "groundTruthFile)");
+                 "groundTruthFile); bearing-range: a stock kf-slam INI (landmarks, robot path, std_sensor_*)");
   app.add_option("--ground-truth", options.ground_truth,
-                 "range-only: robot path as ro-localization's groundTruthFile ('k x y phi' relative to the start)");
+                 "range-only: robot path as ro-localization's groundTruthFile ('k x y phi' relative to the start); "
+                 "bearing-range: MRPT's robot path file ('x y z yaw pitch roll' per sensory frame)");
   app.add_option("--settle-steps", options.settle_steps,
                  "range-only: frames before the settled residual RMS (default 10)");
   CLI::Option* refine_window_option = app.add_option(

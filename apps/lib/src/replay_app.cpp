@@ -53,6 +53,11 @@ std::string unusable_foreign_log(const MissionLog& log) {
 }  // namespace
 
 int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostream& err) {
+  try {
+    if (uses_bearing_replay(options)) return run_bearing_replay_app(options, out, err);
+  } catch (...) {
+    return report_current_exception(err, kApp);
+  }
   if (!options.beacons_path.empty() || !options.mrpt_config.empty()) return run_range_replay_app(options, out, err);
   ReplayOptions ro;
   try {
@@ -83,6 +88,8 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
     // (An incomplete log goes on: its prefix is replayed and the exit code is 1 with where reading stopped.)
     if (!log.ours && read_completely(log)) {
       if (const std::string why = unusable_foreign_log(log); !why.empty()) throw common::InputError(why);
+      if (const std::string why = landmark_log_needs_map(options.rawlog_path); !why.empty())
+        throw common::InputError(why);
     }
     try {
       result = replay_mission(log, ro);

@@ -4,17 +4,6 @@
 
 namespace losmimo::localization {
 
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}  // namespace
-
-double wrap_angle_rad(double angle_rad) {
-  // remainder() maps to [-pi, pi]; fold -pi to +pi so the range is (-pi, pi].
-  double wrapped = std::remainder(angle_rad, 2.0 * kPi);
-  if (wrapped <= -kPi) wrapped += 2.0 * kPi;
-  return wrapped;
-}
-
 Eigen::Vector3d to_vector(const BeaconMeasurement& z) { return {z.range_m, z.azimuth_rad, z.elevation_rad}; }
 
 BeaconMeasurement to_measurement(const Eigen::Vector3d& z) {
@@ -25,28 +14,13 @@ BeaconMeasurement to_measurement(const Eigen::Vector3d& z) {
   return m;
 }
 
-Eigen::Vector3d beacon_predict(const Eigen::Vector3d& q_m) {
-  const double rho_m = std::hypot(q_m.x(), q_m.y());
-  return {q_m.norm(), std::atan2(q_m.y(), q_m.x()), std::atan2(q_m.z(), rho_m)};
-}
+// The BS beacon is range_az_el of the UAV in the BS array frame (the array is the sensor frame).
+Eigen::Vector3d beacon_predict(const Eigen::Vector3d& q_m) { return range_az_el(q_m); }
 
-Eigen::Matrix3d beacon_jacobian(const Eigen::Vector3d& q_m) {
-  const double x = q_m.x();
-  const double y = q_m.y();
-  const double z = q_m.z();
-  const double rho2 = x * x + y * y;
-  const double rho = std::sqrt(rho2);
-  const double r2 = rho2 + z * z;
-  const double r = std::sqrt(r2);
-  Eigen::Matrix3d J_z_q;
-  J_z_q << x / r, y / r, z / r,                            // range
-      -y / rho2, x / rho2, 0.0,                            // azimuth
-      -x * z / (rho * r2), -y * z / (rho * r2), rho / r2;  // elevation
-  return J_z_q;
-}
+Eigen::Matrix3d beacon_jacobian(const Eigen::Vector3d& q_m) { return range_az_el_jacobian(q_m); }
 
 Eigen::Vector3d beacon_innovation(const Eigen::Vector3d& z_meas, const Eigen::Vector3d& z_pred) {
-  return {z_meas(0) - z_pred(0), wrap_angle_rad(z_meas(1) - z_pred(1)), wrap_angle_rad(z_meas(2) - z_pred(2))};
+  return range_az_el_innovation(z_meas, z_pred);
 }
 
 Eigen::Matrix3d beacon_noise_cov(double sigma_range_m, double sigma_angle_rad) {

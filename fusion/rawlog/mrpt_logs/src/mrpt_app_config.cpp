@@ -13,6 +13,7 @@
 
 #include <mrpt/config/CConfigFile.h>
 
+#include "losmimo/common/format.h"
 #include "losmimo/common/input_error.h"
 
 namespace losmimo::mrpt_logs {
@@ -147,6 +148,49 @@ MrptAppConfig read_mrpt_app_config(const std::string& path) {
     c.rawlog_file = resolve(*log, path);
   else if (const auto log2 = r.text(kExp, "rawlog_file"))
     c.rawlog_file = resolve(*log2, path);
+  c.unused_keys = r.unused();
+  return c;
+}
+
+bool is_kf_slam_config(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) return false;
+  const mrpt::config::CConfigFile cfg(path);
+  return cfg.sectionExists("RangeBearingKFSLAM") || cfg.sectionExists("MappingApplication");
+}
+
+KfSlamConfig read_kf_slam_config(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) throw common::InputError(path + ": no such configuration file");
+  Reader r(path);
+  KfSlamConfig c;
+  const char* const kApp = "MappingApplication";
+  const char* const kSlam = "RangeBearingKFSLAM";
+  if (const auto v = r.text(kApp, "rawlog_file")) c.rawlog_file = resolve(*v, path);
+  if (const auto v = r.text(kApp, "ground_truth_file")) c.landmarks_file = resolve(*v, path);
+  if (const auto v = r.text(kApp, "ground_truth_file_robot")) c.robot_path_file = resolve(*v, path);
+  const auto positive = [&](const char* key) -> std::optional<double> {
+    const auto v = r.number(kSlam, key);
+    if (v && !(*v > 0.0 && std::isfinite(*v))) {
+      throw common::InputError(r.where(kSlam, key) + " = " + common::format_double(*v) + ": must be > 0",
+                               std::string("[") + kSlam + "] " + key);
+    }
+    return v;
+  };
+  const auto range = positive("std_sensor_range");
+  const auto yaw = positive("std_sensor_yaw_deg");
+  const auto pitch = positive("std_sensor_pitch_deg");
+  if (range || yaw || pitch) {
+    // A key the config leaves out takes the replay's default (landmark_filter.h: 0.01 m, 0.1 deg).
+    c.sensor_sigma =
+        Eigen::Vector3d(range.value_or(0.01), yaw.value_or(0.1) * kDegToRad, pitch.value_or(0.1) * kDegToRad);
+  }
+  if (const auto z = r.number(kSlam, "std_odo_z_additional")) {
+    if (!(*z >= 0.0 && std::isfinite(*z)))
+      throw common::InputError(r.where(kSlam, "std_odo_z_additional") + ": must be >= 0");
+    c.odometry_z_sigma_additional_m = *z;
+  }
+  const auto xy = r.number(kSlam, "stdXY_no_odo");
+  const auto phi = r.number(kSlam, "stdPhi_no_odo_deg");
+  if (xy || phi) c.no_odometry_sigma = Eigen::Vector2d(xy.value_or(0.1), phi.value_or(2.0) * kDegToRad);
   c.unused_keys = r.unused();
   return c;
 }

@@ -40,7 +40,11 @@ struct ReplayAppOptions {
   // A stock ro-localization / pf-localization APP.ini (rawlog/mrpt_app_config.h): beacon map,
   // prior, range noise, particles, ground truth. Explicit options win over it.
   std::string mrpt_config{};
-  std::string ground_truth{};  // ro-localization's groundTruthFile format ("k x y phi" rows)
+  std::string ground_truth{};  // ro-localization's groundTruthFile format ("k x y phi" rows); bearing-range:
+                               // MRPT's robot path ("x y z yaw pitch roll" rows)
+  // Bearing-range logs (mrpt_logs/bearing_replay.h): MRPT's ground-truth landmark file selects that
+  // replay, as does a kf-slam INI given as mrpt_config.
+  std::string landmarks_path{};
   // --scene: scene.3Dscene in the --out folder (required: without it, exit 2), the replay as an
   // MRPT 3-D scene (docs/scenes.md): truth, beliefs and covariances, BS array and beacons.
   bool scene = false;
@@ -49,5 +53,12 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
 // The range-only replay (options.beacons_path or options.mrpt_config set), same exit codes: 2 also for a log with no
 // usable measurement (no CObservationBeaconRanges, no beacon ID in the map, nothing fused).
 int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostream& err);
+// The bearing-range replay (landmarks_path set, or mrpt_config a kf-slam INI), same exit codes: 2 also for a
+// log with nothing usable, and with `strict` for a landmark ID the map lacks.
+int run_bearing_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostream& err);
+bool uses_bearing_replay(const ReplayAppOptions& options);
+// For a foreign log without a map: the reason to refuse it when its CObservationBearingRange hold several
+// readings (mapped landmarks, not the one BS beacon the mission replay takes), else empty.
+std::string landmark_log_needs_map(const std::string& rawlog_path);
 
 }  // namespace losmimo::apps

@@ -1,5 +1,7 @@
 #pragma once
 // The BS beacon observation model, its Jacobian, its inverse and the angle-aware innovation.
+// h and J_z_q are range_az_el() and its Jacobian (range_az_el.h) with the BS array as the sensor
+// frame: the same function the bearing-range landmark replay uses.
 //
 // Frame: BS array frame (placement/scenario.h): origin at the array centre, +x boresight, z up.
 // State q = (x, y, z) [m], rho = sqrt(x^2 + y^2) [m], r = |q| [m].
@@ -20,14 +22,12 @@
 #include <Eigen/Core>
 
 #include "losmimo/localization/position/measurements.h"
+#include "losmimo/localization/range_az_el.h"
 
 namespace losmimo::localization {
 
 // Below this horizontal distance from the array the azimuth is ill-conditioned [m].
 inline constexpr double kMinBeaconRho_m = 1.0;
-
-// Wraps an angle to (-pi, pi].
-double wrap_angle_rad(double angle_rad);
 
 Eigen::Vector3d to_vector(const BeaconMeasurement& z);
 BeaconMeasurement to_measurement(const Eigen::Vector3d& z);

@@ -55,6 +55,30 @@ std::string beacons_ini_text(const localization::BeaconMap& beacons,
 void write_beacons_ini(const localization::BeaconMap& beacons, const std::string& path,
                        std::optional<double> range_sigma_m = std::nullopt);
 
+// The settings of a stock kf-slam configuration (config_files/kf-slam/EKF-SLAM_*.ini) that the
+// bearing-range replay acts on (bearing_replay.h), read the same way:
+//   [MappingApplication] rawlog_file, ground_truth_file (the landmarks: MRPT's ground-truth
+//       landmark file, landmark_files.h), ground_truth_file_robot (the robot path), resolved
+//       against the config's folder
+//   [RangeBearingKFSLAM] std_sensor_range [m], std_sensor_yaw_deg, std_sensor_pitch_deg [deg]
+//       (the reading noise; a key left out takes the replay's default: 0.01 m, 0.1 deg),
+//       std_odo_z_additional [m] (added to the odometry's z sigma), stdXY_no_odo [m],
+//       stdPhi_no_odo_deg (the random walk of a frame without odometry)
+// Every other key is listed in `unused_keys`.
+struct KfSlamConfig {
+  std::string rawlog_file, landmarks_file, robot_path_file;
+  std::optional<Eigen::Vector3d> sensor_sigma;  // (range_m, yaw_rad, pitch_rad)
+  double odometry_z_sigma_additional_m = 0.0;
+  std::optional<Eigen::Vector2d> no_odometry_sigma;  // (xy_m, phi_rad)
+  std::vector<std::string> unused_keys;
+};
+
+// Whether `path` is a kf-slam configuration (it has [RangeBearingKFSLAM] or [MappingApplication]).
+bool is_kf_slam_config(const std::string& path);
+// Throws common::InputError naming "<path>: [section] key" and the value for a bad value, or for
+// a file that does not exist.
+KfSlamConfig read_kf_slam_config(const std::string& path);
+
 // ro-localization's groundTruthFile: rows "k x y phi" (column 0 ignored; x, y [m] and phi [rad]
 // relative to the start pose); row k belongs to the k-th (action, sensory frame) pair.
 // Throws common::InputError naming the line and column.

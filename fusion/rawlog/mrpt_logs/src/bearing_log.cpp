@@ -1,0 +1,182 @@
+#include "losmimo/mrpt_logs/bearing_log.h"
+
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CActionRobotMovement3D.h>
+#include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPosePDF.h>
+#include <mrpt/system/datetime.h>
+
+#include "losmimo/localization/pose/odometry_model.h"
+
+namespace losmimo::mrpt_logs {
+
+namespace {
+
+using localization::OdometryIncrement6;
+using localization::Pose6;
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+double seconds_of(const mrpt::Clock::time_point& t) { return t == INVALID_TIMESTAMP ? kNan : mrpt::Clock::toDouble(t); }
+
+// A 2-D increment (x, y, phi) with its 3x3 covariance as a 6-D one.
+OdometryIncrement6 planar_increment(double x, double y, double phi, const Eigen::Matrix3d& cov) {
+  OdometryIncrement6 u;
+  u.delta << x, y, 0.0, phi, 0.0, 0.0;
+  const int idx[3] = {localization::kP6X, localization::kP6Y, localization::kP6Yaw};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) u.cov(idx[r], idx[c]) = cov(r, c);
+  return u;
+}
+
+class Loader {
+ public:
+  explicit Loader(BearingLog& log) : log_(log) {}
+
+  void add(const mrpt::serialization::CSerializable& obj, const std::string& class_name) {
+    if (const auto* sf = dynamic_cast<const mrpt::obs::CSensoryFrame*>(&obj)) {
+      BearingFrame frame;
+      frame.step = sensory_frames_++;
+      frame.timestamp_s = kNan;
+      for (const auto& o : *sf) {
+        if (!o) continue;
+        if (std::isnan(frame.timestamp_s)) frame.timestamp_s = seconds_of(o->timestamp);
+        add_observation_to(*o, frame);
+      }
+      take_pending(frame);
+      log_.frames.push_back(std::move(frame));
+      return;
+    }
+    if (const auto* acts = dynamic_cast<const mrpt::obs::CActionCollection*>(&obj)) {
+      for (std::size_t i = 0; i < acts->size(); ++i) add_action(acts->get(i));
+      return;
+    }
+    const std::int64_t index = top_level_++;
+    if (const auto* b = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obj)) {
+      BearingFrame frame;
+      frame.step = index;
+      frame.timestamp_s = seconds_of(b->timestamp);
+      add_observation_to(*b, frame);
+      take_pending(frame);
+      log_.frames.push_back(std::move(frame));
+      return;
+    }
+    if (const auto* odo = dynamic_cast<const mrpt::obs::CObservationOdometry*>(&obj)) {
+      const Eigen::Vector4d p(odo->odometry.x(), odo->odometry.y(), 0.0, odo->odometry.phi());
+      if (last_odometry_) {
+        const Eigen::Vector4d u = localization::increment_between(*last_odometry_, p);
+        const localization::OdometryIncrement o =
+            localization::odometry_2d(u(0), u(1), u(3), localization::GaussianMotionModel2D{});
+        Eigen::Matrix3d cov;
+        const int idx[3] = {localization::kPoseX, localization::kPoseY, localization::kPoseYaw};
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c) cov(r, c) = o.cov(idx[r], idx[c]);
+        add_increment(planar_increment(u(0), u(1), u(3), cov));
+      }
+      last_odometry_ = p;
+      ++log_.used[class_name];
+      return;
+    }
+    ++log_.skipped[class_name];
+  }
+
+  void finish() {
+    if (pending_) ++log_.trailing_actions;
+  }
+
+ private:
+  void add_observation_to(const mrpt::obs::CObservation& o, BearingFrame& frame) {
+    const std::string name = o.GetRuntimeClass()->className;
+    const auto* b = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&o);
+    if (!b) {
+      ++log_.skipped[name];
+      return;
+    }
+    localization::BearingScan scan;
+    const mrpt::poses::CPose3D& s = b->sensorLocationOnRobot;
+    scan.sensor_on_robot << s.x(), s.y(), s.z(), s.yaw(), s.pitch(), s.roll();
+    scan.sigma = Eigen::Vector3d(b->sensor_std_range, b->sensor_std_yaw, b->sensor_std_pitch);
+    scan.max_range_m = b->maxSensorDistance;
+    for (const auto& m : b->sensedData) {
+      scan.readings.push_back({m.landmarkID, localization::to_range_az_el(m.range, m.yaw, m.pitch)});
+      if (m.landmarkID < 0) ++log_.readings_without_id;
+      if (m.pitch != 0.0f) ++log_.nonzero_pitch_readings;
+    }
+    const auto n = static_cast<std::int64_t>(b->sensedData.size());
+    log_.readings += n;
+    log_.max_readings_per_observation = std::max(log_.max_readings_per_observation, n);
+    if (b->validCovariances) ++log_.valid_covariance_observations;
+    ++log_.bearing_observations;
+    ++log_.used[name];
+    frame.scans.push_back(std::move(scan));
+  }
+
+  void add_action(const mrpt::obs::CAction& a) {
+    const std::string name = a.GetRuntimeClass()->className;
+    if (const auto* m3 = dynamic_cast<const mrpt::obs::CActionRobotMovement3D*>(&a)) {
+      const auto& p = m3->poseChange.mean;
+      OdometryIncrement6 u;
+      u.delta << p.x(), p.y(), p.z(), p.yaw(), p.pitch(), p.roll();
+      u.cov = m3->poseChange.cov.asEigen();
+      add_increment(u);
+      ++log_.actions_3d;
+      ++log_.used[name];
+    } else if (const auto* m2 = dynamic_cast<const mrpt::obs::CActionRobotMovement2D*>(&a); m2 && m2->poseChange) {
+      mrpt::math::CMatrixDouble33 cov;
+      mrpt::poses::CPose2D mean;
+      m2->poseChange->getCovarianceAndMean(cov, mean);
+      add_increment(planar_increment(mean.x(), mean.y(), mean.phi(), cov.asEigen()));
+      ++log_.used[name];
+    } else {
+      ++log_.skipped[name];
+    }
+  }
+
+  void add_increment(const OdometryIncrement6& u) {
+    if (!pending_) {
+      pending_ = u;
+      return;
+    }
+    localization::Matrix6d J_x, J_u;
+    OdometryIncrement6 out;
+    out.delta = localization::compose_pose6(pending_->delta, u.delta, &J_x, &J_u);
+    out.cov = J_x * pending_->cov * J_x.transpose() + J_u * u.cov * J_u.transpose();
+    pending_ = out;
+  }
+
+  void take_pending(BearingFrame& frame) {
+    if (pending_) {
+      frame.has_odometry = true;
+      frame.odometry = *pending_;
+    }
+    pending_.reset();
+  }
+
+  BearingLog& log_;
+  std::int64_t sensory_frames_ = 0;
+  std::int64_t top_level_ = 0;
+  std::optional<OdometryIncrement6> pending_;
+  std::optional<Eigen::Vector4d> last_odometry_;
+};
+
+}  // namespace
+
+BearingLog load_bearing_log(rawlog_io::RawlogReader& reader) {
+  BearingLog log;
+  Loader loader(log);
+  while (auto object = reader.next()) {
+    if (object->object) loader.add(*object->object, object->class_name);
+  }
+  loader.finish();
+  log.read_status = reader.status();
+  return log;
+}
+
+}  // namespace losmimo::mrpt_logs

@@ -1,0 +1,224 @@
+// The particle filter of landmark_filter.h through mrpt::bayes::CParticleFilter: particles are
+// 6-D poses; a frame with readings draws every particle from the linearised optimal proposal
+// (optimal_proposal.h) of all its associated readings, a frame without from the motion model.
+#include <mrpt/bayes/CParticleFilter.h>
+#include <mrpt/bayes/CParticleFilterData.h>
+#include <mrpt/random/RandomGenerators.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <vector>
+
+#include "losmimo/localization/optimal_proposal.h"
+#include "losmimo/localization/particles.h"
+#include "losmimo/localization/pose/landmark_filter.h"
+#include "losmimo/localization/range_az_el.h"
+#include "losmimo/localization/resampling.h"
+
+namespace losmimo::localization {
+
+namespace {
+
+using mrpt::bayes::particle_storage_mode;
+using Particles6 = mrpt::bayes::CParticleFilterData<Pose6, particle_storage_mode::VALUE>;
+
+// The associated readings as whitened residuals r = (z - h(x)) / sigma (angles wrapped) and rows
+// A = diag(1 / sigma) J_z_x: optimal_proposal.h's measurement concept.
+class WhitenedBearings {
+ public:
+  explicit WhitenedBearings(const std::vector<AssociatedReading>& readings) : readings_(readings) {
+    for (const AssociatedReading& u : readings_) sensors_.push_back(to_cpose3d(u.sensor_on_robot));
+  }
+
+  double accumulate(const Pose6& x, Matrix6d* AtA, Pose6* Atr) const {
+    const mrpt::poses::CPose3D robot = to_cpose3d(x);
+    double r2 = 0.0;
+    for (std::size_t j = 0; j < readings_.size(); ++j) {
+      const AssociatedReading& u = readings_[j];
+      Matrix36d J;
+      const Eigen::Vector3d h = landmark_predict(robot, sensors_[j], u.landmark_m, AtA ? &J : nullptr);
+      const Eigen::Vector3d r = range_az_el_innovation(u.z, h).cwiseQuotient(u.sigma);
+      r2 += r.squaredNorm();
+      if (!AtA) continue;
+      const Matrix36d A = u.sigma.cwiseInverse().asDiagonal() * J;
+      AtA->noalias() += A.transpose() * A;
+      *Atr += A.transpose() * r;
+    }
+    return r2;
+  }
+
+  void rows(const Pose6& x, std::vector<Pose6>& a) const {
+    const mrpt::poses::CPose3D robot = to_cpose3d(x);
+    a.clear();
+    for (std::size_t j = 0; j < readings_.size(); ++j) {
+      Matrix36d J;
+      landmark_predict(robot, sensors_[j], readings_[j].landmark_m, &J);
+      for (int k = 0; k < 3; ++k) a.push_back(J.row(k).transpose() / readings_[j].sigma(k));
+    }
+  }
+
+  double project(const Pose6& x, const std::vector<Pose6>& a, Pose6& Atr) const {
+    const mrpt::poses::CPose3D robot = to_cpose3d(x);
+    Atr.setZero();
+    double r2 = 0.0;
+    std::size_t row = 0;
+    for (std::size_t j = 0; j < readings_.size(); ++j) {
+      const AssociatedReading& u = readings_[j];
+      const Eigen::Vector3d r =
+          range_az_el_innovation(u.z, landmark_predict(robot, sensors_[j], u.landmark_m)).cwiseQuotient(u.sigma);
+      r2 += r.squaredNorm();
+      for (int k = 0; k < 3; ++k, ++row) {
+        if (!a.empty()) Atr += a[row] * r(k);
+      }
+    }
+    return r2;
+  }
+
+ private:
+  const std::vector<AssociatedReading>& readings_;
+  std::vector<mrpt::poses::CPose3D> sensors_;
+};
+
+// Weighted mean and covariance of poses, deviations taken about the first pose (angles wrapped).
+void pose6_moments(const std::vector<Pose6>& poses, const std::vector<double>& w, Pose6& mean, Matrix6d& cov) {
+  Pose6 first = Pose6::Zero();
+  for (std::size_t i = 0; i < poses.size(); ++i) first += w[i] * pose6_deviation(poses[i], poses.front());
+  mean = compose_pose6(poses.front() + first, Pose6::Zero());
+  Pose6 m1 = Pose6::Zero();
+  Matrix6d m2 = Matrix6d::Zero();
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const Pose6 e = pose6_deviation(poses[i], mean);
+    m1 += w[i] * e;
+    m2.noalias() += w[i] * e * e.transpose();
+  }
+  cov = m2 - m1 * m1.transpose();
+}
+
+FilterConfig particle_options(const LandmarkFilterConfig& config) {
+  FilterConfig f;
+  f.num_particles = config.num_particles;
+  f.resampling = config.resampling;
+  f.ess_threshold = config.ess_threshold;
+  return f;
+}
+
+class LandmarkParticleFilter final
+    : public LandmarkPoseFilter,
+      public Particles6,
+      public mrpt::bayes::CParticleFilterDataImpl<LandmarkParticleFilter, Particles6::CParticleList> {
+ public:
+  LandmarkParticleFilter(const LandmarkFilterConfig& config, const BeaconMap& landmarks, const LandmarkBelief& start,
+                         std::uint64_t seed)
+      : config_(config), landmarks_(landmarks), rng_(fold_seed(seed)) {
+    configure_particle_filter(pf_, particle_options(config));
+    LandmarkBelief b = start;
+    if (config_.planar) make_planar(b);
+    // A start covariance with exact zeros (a known start) draws every particle at the mean.
+    Eigen::SelfAdjointEigenSolver<Matrix6d> eig(0.5 * (b.cov + b.cov.transpose()));
+    const Matrix6d root = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+    m_particles.resize(static_cast<std::size_t>(config.num_particles));
+    for (auto& p : m_particles) {
+      p.d = project(b.mean + root * normal6());
+      p.log_w = 0.0;
+    }
+    update_belief();
+  }
+
+  void step(const OdometryIncrement6& odometry, const std::vector<BearingScan>& scans) override {
+    ++counters_.frames;
+    u_ = odometry;
+    scans_ = &scans;
+    pf_.executeOn(*this, nullptr, nullptr);
+    scans_ = nullptr;
+    const std::vector<double> log_w = log_weights(m_particles);
+    if (normalized_ess(log_w) < config_.ess_threshold) {
+      performSubstitution(resampling_indices(config_.resampling, log_w, rng_));
+      for (auto& p : m_particles) p.log_w = 0.0;
+      ++counters_.resamplings;
+    }
+    update_belief();
+  }
+
+  LandmarkBelief belief() const override { return belief_; }
+  const LandmarkCounters& counters() const override { return counters_; }
+
+ protected:
+  void prediction_and_update_pfStandardProposal(
+      const mrpt::obs::CActionCollection* /*action*/, const mrpt::obs::CSensoryFrame* /*obs*/,
+      const mrpt::bayes::CParticleFilter::TParticleFilterOptions& /*options*/) override {
+    const std::size_t n = m_particles.size();
+    const Matrix6d sigma_u = u_.cov + Matrix6d(config_.min_odometry_sigma.cwiseAbs2().asDiagonal());
+    std::vector<Pose6> x_bar(n);
+    std::vector<Matrix6d> J_u(n);
+    std::size_t i = 0;
+    for (const auto& p : m_particles) {
+      x_bar[i] = compose_pose6(p.d, u_.delta, nullptr, &J_u[i]);
+      ++i;
+    }
+    // Predicted moments: the spread of the predicted means plus the motion noise at the mean.
+    LandmarkBelief predicted;
+    pose6_moments(x_bar, normalized_weights(log_weights(m_particles)), predicted.mean, predicted.cov);
+    predicted.cov += odometry_noise(config_, predicted.mean, OdometryIncrement6{Pose6::Zero(), u_.cov});
+    const std::vector<AssociatedReading> fuse =
+        associate(config_, landmarks_, scans_ ? *scans_ : std::vector<BearingScan>{}, predicted, counters_);
+    if (fuse.empty()) {  // the motion model: sample the increment, compose in the robot frame
+      const Matrix6d L_u = sigma_u.llt().matrixL();
+      for (auto& p : m_particles) p.d = project(compose_pose6(p.d, u_.delta + L_u * normal6()));
+      return;
+    }
+    const WhitenedBearings measurement(fuse);
+    const Matrix6d W_hat = predicted.cov.llt().solve(Matrix6d::Identity());
+    const OptimalProposal<6, WhitenedBearings> proposal(measurement, predicted.mean, W_hat);
+    i = 0;
+    for (auto& p : m_particles) {
+      const Matrix6d Q = J_u[i] * sigma_u * J_u[i].transpose();
+      const Matrix6d W = Q.llt().solve(Matrix6d::Identity());
+      Pose6 x;
+      p.log_w += proposal.sample(x_bar[i], W, normal6(), x);
+      p.d = project(x);
+      ++i;
+    }
+  }
+
+ private:
+  Pose6 normal6() {
+    Pose6 v;
+    for (int k = 0; k < 6; ++k) v(k) = rng_.drawGaussian1D_normalized();
+    return v;
+  }
+
+  // Angles normalised as CPose3D; z, pitch, roll at 0 when planar.
+  Pose6 project(const Pose6& x) const {
+    Pose6 out = compose_pose6(x, Pose6::Zero());
+    if (config_.planar) out(kP6Z) = out(kP6Pitch) = out(kP6Roll) = 0.0;
+    return out;
+  }
+
+  void update_belief() {
+    std::vector<Pose6> poses;
+    poses.reserve(m_particles.size());
+    for (const auto& p : m_particles) poses.push_back(p.d);
+    pose6_moments(poses, normalized_weights(log_weights(m_particles)), belief_.mean, belief_.cov);
+    belief_.cov = 0.5 * (belief_.cov + belief_.cov.transpose()).eval();
+  }
+
+  LandmarkFilterConfig config_;
+  BeaconMap landmarks_;
+  mrpt::bayes::CParticleFilter pf_;
+  mrpt::random::CRandomGenerator rng_;
+  LandmarkCounters counters_;
+  LandmarkBelief belief_;
+  OdometryIncrement6 u_;
+  const std::vector<BearingScan>* scans_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<LandmarkPoseFilter> make_landmark_particle_filter(const LandmarkFilterConfig& config,
+                                                                  const BeaconMap& landmarks,
+                                                                  const LandmarkBelief& start, std::uint64_t seed) {
+  return std::make_unique<LandmarkParticleFilter>(config, landmarks, start, seed);
+}
+
+}  // namespace losmimo::localization
