@@ -257,5 +257,51 @@ TEST(SceneSources, RangeReplayOfMrptUwbDemo_BeaconsTrackAndGroundTruth) {
   EXPECT_NEAR(e->getCovMatrix()(0, 0), var_x, kRelTol * var_x);
 }
 
+// A 6-D bearing-range log localized on its landmark map: 50 landmarks as beacons (the file's first
+// row checked by hand), beliefs, truth and the smoother's path equal to track.csv's columns.
+TEST(SceneSources, BearingReplayOfMrptKfSlam6D_LandmarksTrackTruthAndSmoother) {
+  const fs::path dir = temp_dir("bearing");
+  apps::ReplayAppOptions r;
+  r.rawlog_path = kMrptData + "/kf-slam_6D_demo.rawlog";
+  r.landmarks_path = kMrptData + "/kf-slam_6D_demo_ground_truth.txt";
+  r.ground_truth = kMrptData + "/kf-slam_6D_demo_ground_truth_robot_path.txt";
+  r.refine = true;
+  r.out_dir = (dir / "out").string();
+  r.out_given = true;
+  r.scene = true;
+  std::ostringstream out, err;
+  ASSERT_EQ(apps::run_replay_app(r, out, err), 0) << err.str();
+  const LoadedScene s = load_scene((dir / "out" / "scene.3Dscene").string());
+  ASSERT_TRUE(s.loaded);
+  const auto landmarks = s.points("beacons");
+  ASSERT_EQ(landmarks.size(), 50u);
+  const Eigen::Vector3d landmark_1(-0.707910, 5.694330, 3.929384);
+  EXPECT_EQ(std::count_if(landmarks.begin(), landmarks.end(),
+                          [&](const Eigen::Vector3d& b) { return (b - landmark_1).norm() < kFloatTol_m; }),
+            1);
+  const CsvTable track = read_csv_table((dir / "out" / "track.csv").string());
+  const auto believed = s.points("robot/believed_points");
+  const auto truth = s.points("robot/true_points");
+  const auto refined = s.points("robot_refined/believed_points");
+  ASSERT_EQ(believed.size(), track.rows.size());
+  ASSERT_EQ(refined.size(), track.rows.size());
+  ASSERT_EQ(truth.size(), track.rows.size());
+  for (std::size_t i = 0; i < track.rows.size(); ++i) {
+    const Eigen::Vector3d b(track.number(i, "x_m"), track.number(i, "y_m"), track.number(i, "z_m"));
+    const Eigen::Vector3d g(track.number(i, "gt_x_m"), track.number(i, "gt_y_m"), track.number(i, "gt_z_m"));
+    const Eigen::Vector3d f(track.number(i, "refined_x_m"), track.number(i, "refined_y_m"),
+                            track.number(i, "refined_z_m"));
+    EXPECT_NEAR((believed[i] - b).norm(), 0.0, kFloatTol_m) << i;
+    EXPECT_NEAR((truth[i] - g).norm(), 0.0, kFloatTol_m) << i;
+    EXPECT_NEAR((refined[i] - f).norm(), 0.0, kFloatTol_m) << i;
+  }
+  EXPECT_EQ(s.names_with("robot/cov/").size(), expected_ellipsoids(track.rows.size()));
+  EXPECT_TRUE(s.names_with("robot_refined/cov/").empty());  // the smoother gives no covariance
+  const auto e = s.get<mrpt::opengl::CEllipsoid3D>("robot/cov/0");
+  ASSERT_TRUE(e);
+  const double var_z = track.number(0, "var_z_m2");
+  EXPECT_NEAR(e->getCovMatrix()(2, 2), var_z, kRelTol * var_z);
+}
+
 }  // namespace
 }  // namespace losmimo

@@ -18,6 +18,7 @@
 #include "losmimo/mrpt_logs/landmark_files.h"
 #include "losmimo/mrpt_logs/mrpt_app_config.h"
 #include "messages.h"
+#include "rawlog_scenes.h"
 #include "replay_outputs.h"
 
 namespace losmimo::apps {
@@ -85,6 +86,7 @@ int publish(const ReplayAppOptions& options, const BearingLog& log, const Bearin
         summary << "key,value\n";
         for (const auto& [k, v] : rows) summary << k << ",\"" << v << "\"\n";
         common::write_file_atomically((dir / "summary.csv").string(), summary.str());
+        if (options.scene) scene::write_scene_file(bearing_scene(result, landmarks), (dir / "scene.3Dscene").string());
       },
       err, kApp);
   if (published != kExitOk) return published;
@@ -128,6 +130,7 @@ int run_bearing_replay_app(const ReplayAppOptions& options, std::ostream& out, s
     bo = bearing_options(options, cfg ? &*cfg : nullptr);
     if (options.out_given && options.out_dir.empty())
       throw common::InputError("--out '': an output folder is required");
+    check_scene_option(options.scene, options.out_dir);
     if (!options.out_dir.empty())
       common::StagedDir::check(options.out_dir, options.replace, common::StaleStaging::kDiscard);
     const std::string map_file = !options.landmarks_path.empty() ? options.landmarks_path : cfg->landmarks_file;

@@ -72,6 +72,24 @@ scene::SceneContent range_scene(const mrpt_logs::RangeReplayResult& result, cons
   return content;
 }
 
+scene::SceneContent bearing_scene(const mrpt_logs::BearingReplayResult& result,
+                                  const localization::BeaconMap& landmarks) {
+  scene::SceneContent content;
+  for (const auto& [id, p] : landmarks.beacons()) content.beacons.push_back({id, p});
+  scene::Track robot, refined;
+  robot.name = "robot";
+  refined.name = "robot_refined";
+  for (const mrpt_logs::BearingTrackRow& row : result.track) {
+    if (row.has_truth) robot.true_m.push_back(row.truth.head<3>());  // Pose6: x y z yaw pitch roll
+    robot.believed_m.push_back(row.belief.mean.head<3>());
+    robot.believed_cov_m2.push_back(row.belief.cov.topLeftCorner<3, 3>());
+    if (row.refined) refined.believed_m.push_back(row.refined->head<3>());  // the smoother gives no covariance
+  }
+  content.tracks.push_back(std::move(robot));
+  if (!refined.believed_m.empty()) content.tracks.push_back(std::move(refined));
+  return content;
+}
+
 std::string scene_path_beside(const std::string& log_path) {
   // The stem beacons_ini_path uses, so that the two files stay side by side.
   const std::string suffix = ".beacons.ini";

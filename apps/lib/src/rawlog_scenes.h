@@ -3,6 +3,7 @@
 #include <string>
 
 #include "losmimo/localization/pose/range_model.h"
+#include "losmimo/mrpt_logs/bearing_replay.h"
 #include "losmimo/mrpt_logs/range_replay.h"
 #include "losmimo/rawlog/log.h"
 #include "losmimo/rawlog/replay.h"
@@ -22,6 +23,10 @@ scene::SceneContent mission_scene(const rawlog::MissionLog& log, const rawlog::R
 // position block's covariance, and the ground truth where given, at z = 0: MRPT's ground truth
 // is 2-D) and with refinement "robot_refined" (the smoother's poses). No BS array.
 scene::SceneContent range_scene(const mrpt_logs::RangeReplayResult& result, const localization::BeaconMap& beacons);
+
+// A bearing-range replay (losmimo-replay --landmarks / a kf-slam --mrpt-config): the map's landmarks
+// as beacons, the robot's true path, filter beliefs with covariances and the smoother's path.
+scene::SceneContent bearing_scene(const mrpt_logs::BearingReplayResult& result, const localization::BeaconMap& landmarks);
 
 // Where losmimo-record --scene writes: "<log path without a .rawlog extension>.3Dscene".
 std::string scene_path_beside(const std::string& log_path);
