@@ -10,7 +10,7 @@
 #include "losmimo/apps/unused_keys.h"
 #include "losmimo/coevaluation/extensions.h"
 #include "losmimo/common/ini_config.h"
-#include "losmimo/common/staged_output.h"
+#include "losmimo/apps/staged_output.h"
 #include "losmimo/common/test_hook.h"
 #include "losmimo/experiment/extension.h"
 #include "losmimo/rawlog/recorder.h"
@@ -27,7 +27,7 @@ constexpr const char* kApp = "losmimo-record";
 
 int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostream& err) {
   MissionConfig config;
-  std::optional<common::StagedFile> staged, staged_beacons;
+  std::optional<StagedFile> staged, staged_beacons;
   try {
     common::IniConfig ini =
         options.config_path.empty() ? common::IniConfig() : common::IniConfig::from_file(options.config_path);
@@ -46,10 +46,10 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
     if (!config.closed_loop.refine) record.conditions.push_back(kNoRefinement);
     refuse_unused_overrides(ini, options.overrides, {record});
     if (options.out_path.empty()) throw common::InputError("--out: an output file is required");
-    kernel_isa_name();  // a bad LOSMIMO_ISA stops here, exit code 2
-    staged.emplace(common::StagedFile::create(options.out_path, options.replace));
+    kernel_isa_name();  // a bad LOSMIMO_ISA stops here: kExitBadInput
+    staged.emplace(StagedFile::create(options.out_path, options.replace));
     try {
-      staged_beacons.emplace(common::StagedFile::create(beacons_ini_path(options.out_path), options.replace));
+      staged_beacons.emplace(StagedFile::create(beacons_ini_path(options.out_path), options.replace));
     } catch (...) {
       std::error_code ignored;  // the staged log was just created, empty: no litter from a refused run
       std::filesystem::remove(staged->path(), ignored);
@@ -64,7 +64,7 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
     ro.after_epoch_mark = [](int) { common::test_pause_point("record.epoch_mark"); };
     const RecordResult r = record_mission(config, ro);
     staged->publish();
-    // The beacon map of the BS_RANGES streams, for stock MRPT apps (docs/rawlog-format.md).
+    // The beacon map of the BS_RANGES streams, for stock MRPT apps (docs/replay.md).
     {
       std::ofstream f(staged_beacons->path());
       if (!(f << mission_beacons_ini_text(config)) || !f.flush())
@@ -81,7 +81,7 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
       return kExitFault;
     }
     return kExitOk;
-  } catch (const common::OutputExistsError& e) {
+  } catch (const OutputExistsError& e) {
     print_output_exists(err, kApp, e, "--out");
     return kExitBadInput;
   } catch (const std::exception& e) {
