@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "losmimo/apps/eval_app.h"
+#include "losmimo/apps/exit_codes.h"
 #include "version_flag.h"
 
 int main(int argc, char** argv) {
@@ -16,7 +17,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    return app.exit(e) == 0 ? losmimo::apps::kExitOk : losmimo::apps::kExitBadInput;
   }
   return losmimo::apps::run_eval_app(options, std::cout, std::cerr);
 }

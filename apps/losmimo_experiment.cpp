@@ -16,6 +16,7 @@
 #include <mpi.h>
 #endif
 
+#include "losmimo/apps/exit_codes.h"
 #include "losmimo/apps/experiment_app.h"
 #include "losmimo/apps/experiment_scene.h"
 #include "losmimo/coevaluation/extensions.h"
@@ -86,7 +87,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    return app.exit(e) == 0 ? losmimo::apps::kExitOk : losmimo::apps::kExitBadInput;
   }
   // Given (even as ''), or not: an empty value is refused, not taken as "not given".
   if (out_option->count() > 0) options.out_dir = out_dir;

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "losmimo/apps/exit_codes.h"
 #include "losmimo/apps/record_app.h"
 #include "version_flag.h"
 
@@ -24,7 +25,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    return app.exit(e) == 0 ? losmimo::apps::kExitOk : losmimo::apps::kExitBadInput;
   }
   return losmimo::apps::run_record_app(options, std::cout, std::cerr);
 }

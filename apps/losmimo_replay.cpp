@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "losmimo/apps/exit_codes.h"
 #include "losmimo/apps/replay_app.h"
 #include "version_flag.h"
 
@@ -51,7 +52,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    return app.exit(e) == 0 ? losmimo::apps::kExitOk : losmimo::apps::kExitBadInput;
   }
   options.out_given = out_option->count() > 0;
   options.refine_window_given = refine_window_option->count() > 0;

@@ -71,8 +71,8 @@ class ExperimentInterrupt : public ::testing::Test {
 
 }  // namespace
 
-// An interrupted shard folder resumed without --shard used to be taken for a whole run: its
-// half-done points counted as finished (fewer rows, wrong trial counts, exit 0).
+// An interrupted shard folder resumed without --shard is finished as that shard, never taken for
+// a whole run (its half-done points counted as finished: fewer rows, wrong trial counts).
 TEST_F(ExperimentInterrupt, ShardKilledMidRun_ResumeWithoutShardFinishesThatShard) {
   const fs::path s0 = root_ / "s0", s1 = root_ / "s1", whole = root_ / "whole";
   ASSERT_EQ(run(args("--out", whole, "1"), "whole"), 0) << log("whole");
@@ -97,8 +97,8 @@ TEST_F(ExperimentInterrupt, ShardKilledMidRun_ResumeWithoutShardFinishesThatShar
   }
 }
 
-// Re-running a shard into its folder used to replace config.ini first and leave the old
-// records: an interrupted re-run then merged the old seed's records under the new seed's report.
+// Re-running a shard into its folder never replaces config.ini before the records: an
+// interrupted re-run must not merge the old seed's records under the new seed's report.
 TEST_F(ExperimentInterrupt, ShardRerunIntoItsFolder_IsRefusedOrKeepsTheOldShardWholeUntilDone) {
   const fs::path s0 = root_ / "s0", s1 = root_ / "s1";
   ASSERT_EQ(run(args("--out", s0, "1", {"--shard", "0/2"}), "a"), 0) << log("a");
@@ -124,8 +124,8 @@ TEST_F(ExperimentInterrupt, ShardRerunIntoItsFolder_IsRefusedOrKeepsTheOldShardW
   EXPECT_NE(log("m2").find("differs"), std::string::npos) << log("m2");
 }
 
-// An interrupted run used to leave the old trials.csv, summary.csv, report.md and figures beside
-// a new config.ini; old figures also survived a later run with plots=false.
+// An interrupted run leaves the old run whole (never its trials.csv, summary.csv, report.md and
+// figures beside a new config.ini), and a later run with plots=false keeps no old figures.
 TEST_F(ExperimentInterrupt, ReplaceKilledMidRunOrAtPublish_LeavesTheOldRunWhole_AndANewRunNoOldFiles) {
   const fs::path dir = root_ / "r";
   ASSERT_EQ(run(args("--out", dir, "1", {"--set", "experiment.plots=true"}), "a"), 0) << log("a");

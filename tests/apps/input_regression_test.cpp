@@ -1,6 +1,6 @@
 // Regressions for bad inputs found by fuzzing and review (docs/reliability.md).
-// Each input here used to be accepted and give NaN / garbage results, or an error that did not
-// name the key. Now: InputError naming the file, line, key or field and the value.
+// Each input here must give an InputError naming the file, line, key or field and the value:
+// never NaN or garbage results, nor an error that does not name the key.
 
 #include <gtest/gtest.h>
 

@@ -99,6 +99,31 @@ losmimo::experiment::ExperimentSettings settings_from(const std::vector<std::str
   return losmimo::experiment::load_experiment_settings(config, experiment_extensions());
 }
 
+// A gd_gauss_matched row: its Gaussian has gd_ekf's measured lateral RMSE of the same trial and
+// point, and its paired differences are gd_ekf's columns minus its own.
+void expect_matched_row(const std::map<std::string, std::string>& r,
+                        const std::vector<std::map<std::string, std::string>>& rows) {
+  // THEN (the matched error): its Gaussian has gd_ekf's measured lateral RMSE of the same
+  // trial and point.
+  const auto ekf = std::find_if(rows.begin(), rows.end(), [&](const auto& o) {
+    return o.at("sweep") == r.at("sweep") && o.at("value") == r.at("value") && o.at("trial") == r.at("trial") &&
+           o.at("algorithm") == "gd_ekf";
+  });
+  ASSERT_NE(ekf, rows.end());
+  const double ekf_lateral_m = number(*ekf, "loc_lateral_rmse_m");
+  EXPECT_GT(ekf_lateral_m, 0.0);
+  EXPECT_NEAR(number(r, "loc_lateral_rmse_m"), ekf_lateral_m, 1e-9 * ekf_lateral_m + 1e-12);
+  EXPECT_TRUE(std::isnan(number(r, "nees")));
+  // THEN: the paired differences are gd_ekf's columns minus its own, from the CSV.
+  const double travel_m = number(*ekf, "dist_to_icn095_m") - number(r, "dist_to_icn095_m");
+  if (std::isnan(travel_m)) {
+    EXPECT_TRUE(std::isnan(number(r, "paired_travel_diff_m")));
+  } else {
+    EXPECT_NEAR(number(r, "paired_travel_diff_m"), travel_m, 1e-8);
+  }
+  EXPECT_EQ(number(r, "paired_iterations_diff"), number(*ekf, "iterations") - number(r, "iterations"));
+}
+
 // One test, so that ctest's process per test runs the two apps once.
 TEST(CoevaluationApp, TinyConfig_EveryAlgorithmAndColumn_SameBytesInOneAndTwoThreads) {
   // GIVEN / WHEN: the same tiny configuration with 1 and 2 threads.
@@ -153,25 +178,7 @@ TEST(CoevaluationApp, TinyConfig_EveryAlgorithmAndColumn_SameBytesInOneAndTwoThr
       continue;
     }
     if (a == "gd_gauss_matched") {
-      // THEN (the matched error): its Gaussian has gd_ekf's measured lateral RMSE of the same
-      // trial and point.
-      const auto ekf = std::find_if(rows.begin(), rows.end(), [&](const auto& o) {
-        return o.at("sweep") == r.at("sweep") && o.at("value") == r.at("value") && o.at("trial") == r.at("trial") &&
-               o.at("algorithm") == "gd_ekf";
-      });
-      ASSERT_NE(ekf, rows.end());
-      const double ekf_lateral_m = number(*ekf, "loc_lateral_rmse_m");
-      EXPECT_GT(ekf_lateral_m, 0.0);
-      EXPECT_NEAR(number(r, "loc_lateral_rmse_m"), ekf_lateral_m, 1e-9 * ekf_lateral_m + 1e-12);
-      EXPECT_TRUE(std::isnan(number(r, "nees")));
-      // THEN: the paired differences are gd_ekf's columns minus its own, from the CSV.
-      const double travel_m = number(*ekf, "dist_to_icn095_m") - number(r, "dist_to_icn095_m");
-      if (std::isnan(travel_m)) {
-        EXPECT_TRUE(std::isnan(number(r, "paired_travel_diff_m")));
-      } else {
-        EXPECT_NEAR(number(r, "paired_travel_diff_m"), travel_m, 1e-8);
-      }
-      EXPECT_EQ(number(r, "paired_iterations_diff"), number(*ekf, "iterations") - number(r, "iterations"));
+      expect_matched_row(r, rows);
       continue;
     }
     EXPECT_TRUE(std::isnan(number(r, "paired_travel_diff_m"))) << a;

@@ -1,4 +1,4 @@
-// The channel sweeps (experiment/channel_sweeps.h): their "off" points are today's runs, each
+// The channel sweeps (experiment/channel_sweeps.h): their "off" points are the pure LoS runs, each
 // swept key changes what it should and nothing else, and bad sweep values stop before any work
 // with the key named.
 #include <gtest/gtest.h>

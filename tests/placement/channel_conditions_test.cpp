@@ -1,7 +1,7 @@
 // Rician fading and CSI estimation noise (channel_conditions.h): the draws' moments against
 // their definitions (5-sigma bounds on fixed seeds), the block keying, the measured-f noise floor
 // against Monte Carlo, the faded evaluation against an explicit average and its LoS limit, and
-// today's channel bit for bit when both are off.
+// the pure LoS channel bit for bit when both are off.
 #include <gtest/gtest.h>
 
 #include <cmath>

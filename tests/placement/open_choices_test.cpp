@@ -1,6 +1,6 @@
 // The settings for the paper's open modelling choices (sigma convention, fixed localization
 // error, stop test on the belief, commanded distance, BF probe actuation, URA geometry and retry
-// rule): each changes what it names and nothing else, and its default is today's behaviour.
+// rule): each changes what it names and nothing else, and its default is the setting's documented default behaviour.
 #include <gtest/gtest.h>
 
 #include <cmath>

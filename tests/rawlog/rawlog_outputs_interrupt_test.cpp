@@ -51,8 +51,8 @@ class OutputsInterrupt : public ::testing::Test {
   fs::path dir_;
 };
 
-// Re-recording into a log used to truncate it first: an interruption destroyed the complete
-// log and left a partial one under the final name.
+// Re-recording into a log never truncates it first: an interruption leaves the complete log
+// whole, and a partial one only under `.partial`, never under the final name.
 TEST_F(OutputsInterrupt, RecordKilledMidMission_LeavesTheOldLogWholeAndThePartOnlyInDotPartial) {
   const fs::path log_path = dir_ / "mission.rawlog";
   ASSERT_EQ(run(record(log_path, "11"), "a"), 0) << log("a");
@@ -70,8 +70,8 @@ TEST_F(OutputsInterrupt, RecordKilledMidMission_LeavesTheOldLogWholeAndThePartOn
   EXPECT_NE(log("c").find("partial log, 3 complete epochs"), std::string::npos) << log("c");
 }
 
-// A replay used to write its files in place: a SIGTERM mid-write left a cut estimates.csv of the
-// new log beside the old epochs.csv and a summary.csv saying complete.
+// A replay never writes its files in place: a SIGTERM mid-write must not leave a cut
+// estimates.csv of the new log beside the old epochs.csv and a summary.csv saying complete.
 TEST_F(OutputsInterrupt, ReplayKilledWhileWriting_LeavesTheOldReplayWhole) {
   const fs::path a = dir_ / "a.rawlog", b = dir_ / "b.rawlog", out = dir_ / "replay";
   ASSERT_EQ(run(record(a, "11"), "ra"), 0) << log("ra");

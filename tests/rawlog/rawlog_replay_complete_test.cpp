@@ -63,7 +63,8 @@ TEST(ReplayComplete, IntactLog_Exits0AndSaysComplete) {
   EXPECT_NE(r.manifest.find("complete = true\nexit_code = 0\n"), std::string::npos) << r.manifest;
 }
 
-// Used to exit 1 with a summary.csv saying complete,true.
+// The exit code and summary.csv agree: a log missing its gzip trailer or with bytes after its
+// end is incomplete in both.
 TEST(ReplayComplete, MissingGzipTrailerOrJunkAfterTheEnd_Exits1AndSaysIncomplete) {
   const std::string gz = logs().gz;
   for (const auto& [name, bytes] : {std::make_pair(std::string("complete_trailer"), gz.substr(0, gz.size() - 8)),
@@ -98,7 +99,7 @@ TEST(ReplayComplete, EmptyOut_IsRefused) {
   EXPECT_NE(err.str().find("--out ''"), std::string::npos) << err.str();
 }
 
-// losmimo-record used to accept any [experiment] value of an experiment config.
+// losmimo-record checks the [experiment] values of an experiment config too.
 TEST(RecordApp, BadExperimentKey_Exits2NamingIt) {
   std::ostringstream out, err;
   apps::RecordAppOptions o;

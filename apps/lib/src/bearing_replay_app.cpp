@@ -13,7 +13,7 @@
 #include "losmimo/common/atomic_file.h"
 #include "losmimo/common/format.h"
 #include "losmimo/common/input_error.h"
-#include "losmimo/common/staged_output.h"
+#include "losmimo/apps/staged_output.h"
 #include "losmimo/mrpt_logs/bearing_replay.h"
 #include "losmimo/mrpt_logs/landmark_files.h"
 #include "losmimo/mrpt_logs/mrpt_app_config.h"
@@ -132,7 +132,7 @@ int run_bearing_replay_app(const ReplayAppOptions& options, std::ostream& out, s
       throw common::InputError("--out '': an output folder is required");
     check_scene_option(options.scene, options.out_dir);
     if (!options.out_dir.empty())
-      common::StagedDir::check(options.out_dir, options.replace, common::StaleStaging::kDiscard);
+      StagedDir::check(options.out_dir, options.replace, StaleStaging::kDiscard);
     const std::string map_file = !options.landmarks_path.empty() ? options.landmarks_path : cfg->landmarks_file;
     if (map_file.empty()) {
       throw common::InputError(options.mrpt_config +
@@ -150,7 +150,7 @@ int run_bearing_replay_app(const ReplayAppOptions& options, std::ostream& out, s
         out << "note: replaying " << options.rawlog_path << ", not the config's rawlog_file " << cfg->rawlog_file
             << "\n";
     }
-  } catch (const common::OutputExistsError& e) {
+  } catch (const OutputExistsError& e) {
     print_output_exists(err, kApp, e, "--out");
     return kExitBadInput;
   } catch (const std::exception& e) {  // InputError, or a file that cannot be opened

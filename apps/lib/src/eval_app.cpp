@@ -52,7 +52,7 @@ void print_table(const LinkMetrics& m, int nr, int num_antennas, std::ostream& o
 
 int run_eval_app(const EvalOptions& options, std::ostream& out, std::ostream& err) {
   try {
-    kernel_isa_name();  // a bad LOSMIMO_ISA stops here, exit code 2
+    kernel_isa_name();  // a bad LOSMIMO_ISA stops here: kExitBadInput
     common::IniConfig config =
         options.config_path.empty() ? common::IniConfig() : common::IniConfig::from_file(options.config_path);
     for (const std::string& o : options.overrides) config.set_override(o);

@@ -17,7 +17,7 @@
 #include "losmimo/common/format.h"
 #include "losmimo/common/ini_config.h"
 #include "losmimo/common/input_error.h"
-#include "losmimo/common/staged_output.h"
+#include "losmimo/apps/staged_output.h"
 #include "losmimo/common/test_hook.h"
 #include "losmimo/experiment/csv.h"
 #include "losmimo/experiment/records.h"
@@ -31,7 +31,6 @@ namespace losmimo::apps {
 
 using namespace experiment;  // the app is a thin layer over the engine's vocabulary
 using common::InputError;
-using common::StagedDir;
 using common::write_file_atomically;
 
 namespace {
@@ -82,7 +81,7 @@ bool same_folder(const std::string& a, const std::string& b) {
 
 // --resume DIR (or DIR.partial, the staging folder itself): the run's final folder.
 std::string resume_target(const std::string& given) {
-  const std::string suffix = common::kStagingSuffix;
+  const std::string suffix = kStagingSuffix;
   std::string dir = given;
   while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
   if (dir.size() > suffix.size() && dir.compare(dir.size() - suffix.size(), suffix.size(), suffix) == 0 &&
@@ -96,8 +95,8 @@ std::string resume_target(const std::string& given) {
 StagedDir open_for_resume(const std::string& dir, bool replace) {
   const fs::path staging = StagedDir::staging_path_of(dir);
   if (!fs::is_directory(staging)) {
-    if (fs::exists(fs::path(dir) / common::kManifestName)) {
-      const common::IniConfig m = common::read_manifest(dir);
+    if (fs::exists(fs::path(dir) / kManifestName)) {
+      const common::IniConfig m = read_manifest(dir);
       throw InputError("--resume " + dir + ": holds a finished " + m.get_string("run", "kind", "run") +
                        ": nothing to resume");
     }
@@ -200,7 +199,7 @@ int run_collective(const ExperimentOptions& options, const ExperimentExtensions&
     print_error(err, kApp, "note: " + note);
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  StagedDir staged = StagedDir::create(dir, options.replace, common::StaleStaging::kRefuse);
+  StagedDir staged = StagedDir::create(dir, options.replace, StaleStaging::kRefuse);
   write_scene(options, settings, results, staged.path());
   RunTiming timing{wall_s, threads * collective.size};
   for (const auto& [name, ranks] : ranks_per_isa) timing.isa += (timing.isa.empty() ? "" : "+") + name;
@@ -208,133 +207,170 @@ int run_collective(const ExperimentOptions& options, const ExperimentExtensions&
   return kExitOk;
 }
 
+// A run once its input is checked: settings, slice, output folder (staged, except under MPI,
+// where rank 0 stages it at the end) and the kernels' instruction set.
+struct RunPlan {
+  ExperimentSettings settings;
+  ExperimentSlice slice;
+  std::string dir;
+  std::optional<StagedDir> staged;
+  std::string isa;
+  bool resume = false;
+  bool shard_run = false;
+  const ExperimentCollective* collective = nullptr;
+};
+
+// Everything that can be wrong with the input is found here, before any work or any file.
+void plan_run(const ExperimentOptions& options, const ExperimentExtensions& extensions, RunPlan& plan) {
+  plan.resume = options.resume_dir.has_value();
+  plan.collective = options.collective && options.collective->size > 1 ? options.collective : nullptr;
+  plan.shard_run = options.shard.has_value();
+  const bool resume = plan.resume;
+  const ExperimentCollective* collective = plan.collective;
+  if (options.out_dir && options.out_dir->empty()) throw InputError("--out '': an output folder is required");
+  if (resume && options.resume_dir->empty())
+    throw InputError("--resume '': the folder of an interrupted run is required");
+  plan.dir = resume ? resume_target(*options.resume_dir) : options.out_dir.value_or("results");
+  if (resume && options.out_dir && !same_folder(*options.out_dir, plan.dir)) {
+    throw InputError("--out " + *options.out_dir + ": --resume " + plan.dir + " finishes the run in " + plan.dir +
+                     " itself; leave out --out, or give the same folder");
+  }
+  if (resume && collective) throw InputError("--resume runs in one process: not under MPI (mpirun)");
+  if (options.shard && collective) throw InputError("--shard and MPI (mpirun) cannot be combined");
+  plan.settings = load_settings(options, extensions);
+  check_scene_option(options, plan.settings);
+  plan.isa = kernel_isa_name();
+  if (options.shard) std::tie(plan.slice.shard_index, plan.slice.shard_count) = parse_shard(*options.shard);
+  if (collective) {
+    plan.slice.shard_index = collective->rank;
+    plan.slice.shard_count = collective->size;
+    StagedDir::check(plan.dir, options.replace, StaleStaging::kRefuse);  // every rank: the same answer
+  } else if (resume) {
+    plan.staged.emplace(open_for_resume(plan.dir, options.replace));
+    plan.shard_run = load_checkpoint(*plan.staged, options, plan.settings, extensions, plan.slice);
+  } else {
+    plan.staged.emplace(StagedDir::create(plan.dir, options.replace, StaleStaging::kRefuse));
+  }
+}
+
+// Writes config.ini and the partial files into the staging folder: records.partial (the
+// checkpoint) starts as its verified prefix (a fresh run: the header alone), and a whole run's
+// trials.csv.partial and positions.csv.partial hold the rows of the points already finished.
+void start_partial_files(const RunPlan& plan, const std::vector<std::string>& extra, RecordsWriter& writer) {
+  const fs::path stage = plan.staged->path();
+  write_file_atomically((stage / "config.ini").string(), to_ini(plan.settings));
+  std::string prefix = writer.header({plan.shard_run ? kRecordsKindShard : kRecordsKindRun, plan.slice.shard_index,
+                                      plan.slice.shard_count, config_digest(plan.settings)});
+  std::vector<TrialRecord> kept_rows;
+  for (const auto& [p, rows] : plan.slice.finished_points) {
+    prefix += writer.point(p, rows);
+    kept_rows.insert(kept_rows.end(), rows.begin(), rows.end());
+  }
+  if (!plan.shard_run) {
+    common::write_stream_atomically((stage / "trials.csv.partial").string(), [&](std::ostream& o) {
+      write_trials_header(o, extra);
+      write_trials_rows(o, kept_rows, extra.size());
+    });
+    common::write_stream_atomically((stage / "positions.csv.partial").string(), [&](std::ostream& o) {
+      write_positions_header(o);
+      write_positions_rows(o, kept_rows);
+    });
+  }
+  write_file_atomically((stage / "records.partial").string(), prefix);
+}
+
+// A shard's end: records.partial, closed by its `e` line, becomes records.csv, and the folder is
+// published with the shard's [shard] section (index, count and its run's threads, time, kernels).
+int publish_shard(RunPlan& plan, RecordsWriter& writer, std::ofstream& records_part, const ExperimentResults& results,
+                  const RunTiming& timing, int threads, std::ostream& out) {
+  const fs::path stage = plan.staged->path();
+  records_part << writer.end();
+  records_part.close();
+  if (!records_part) throw std::runtime_error("writing records.partial failed");
+  fs::rename(stage / "records.partial", stage / "records.csv");
+  std::ostringstream shard;
+  shard << "\n[shard]\nindex = " << plan.slice.shard_index << "\ncount = " << plan.slice.shard_count
+        << "\n# this shard's run, reported by the merge\nthreads = " << threads
+        << "\nwall_s = " << common::format_g(timing.wall_s, common::kExactDigits) << "\nisa = " << plan.isa << "\n";
+  plan.staged->publish(detail::experiment_manifest("shard", plan.settings, results.records.size(), shard.str()));
+  out << "losmimo-experiment: shard " << plan.slice.shard_index << "/" << plan.slice.shard_count << ": "
+      << results.records.size() << " trial rows, " << describe(timing) << "; records in "
+      << plan.staged->final_path().string() << "/records.csv\n";
+  return kExitOk;
+}
+
+// One process: runs the slice, appending every finished point to the partial files (the
+// checkpoint last), then publishes the shard or the whole run's outputs.
+int run_in_process(const ExperimentOptions& options, RunPlan& plan, const ExperimentExtensions& extensions,
+                   std::ostream& out, std::ostream& err) {
+  const ExperimentSettings& settings = plan.settings;
+  const bool shard_run = plan.shard_run;
+  const int threads = threads_of(settings);
+  const fs::path stage = plan.staged->path();
+  const std::vector<std::string> extra = extra_metric_names(settings, extensions);
+  RecordsWriter writer;
+  start_partial_files(plan, extra, writer);
+  if (plan.resume) {
+    err << "losmimo-experiment: resuming " << plan.dir << ": " << plan.slice.finished_points.size() << " of "
+        << num_sweep_points(settings) << " points already finished\n";
+  }
+
+  std::ofstream records_part(stage / "records.partial", std::ios::binary | std::ios::app);
+  std::ofstream trials_part, positions_part;
+  if (!shard_run) {
+    trials_part.open(stage / "trials.csv.partial", std::ios::binary | std::ios::app);
+    positions_part.open(stage / "positions.csv.partial", std::ios::binary | std::ios::app);
+  }
+  const auto sink = [&](int point, const std::vector<TrialRecord>& rows) {
+    if (!shard_run) {
+      write_trials_rows(trials_part, rows, extra.size());
+      write_positions_rows(positions_part, rows);
+      trials_part.flush();
+      positions_part.flush();
+    }
+    // The checkpoint last: a `d` line promises the point is complete everywhere.
+    records_part << writer.point(point, rows);
+    records_part.flush();
+    if (!records_part || (!shard_run && (!trials_part || !positions_part))) {
+      throw std::runtime_error("writing the checkpoint in " + stage.string() + " failed");
+    }
+    common::test_pause_point("experiment.point_done");
+  };
+  detail::Progress progress(err);
+  const auto t0 = std::chrono::steady_clock::now();
+  if (shard_run) plan.slice.traces = false;
+  const ExperimentResults results = run_experiment(settings, extensions, threads, plan.slice, std::ref(progress), sink);
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  RunTiming timing{wall_s, threads};
+  timing.isa = plan.isa;
+  if (shard_run) return publish_shard(plan, writer, records_part, results, timing, threads, out);
+  records_part.close();
+  trials_part.close();
+  positions_part.close();
+  if (!records_part || !trials_part || !positions_part) throw std::runtime_error("writing the partial files failed");
+  fs::rename(stage / "trials.csv.partial", stage / "trials.csv");
+  fs::rename(stage / "positions.csv.partial", stage / "positions.csv");
+  write_scene(options, settings, results, stage);
+  detail::finish_and_publish(*plan.staged, "experiment", settings, extensions, results, timing, true, out, err);
+  return kExitOk;
+}
+
 }  // namespace
 
 int run_experiment_app(const ExperimentOptions& options, const ExperimentExtensions& extensions, std::ostream& out,
                        std::ostream& err) {
-  ExperimentSettings settings;
-  ExperimentSlice slice;
-  const bool resume = options.resume_dir.has_value();
-  const ExperimentCollective* collective =
-      options.collective && options.collective->size > 1 ? options.collective : nullptr;
-  std::string dir;
-  std::optional<StagedDir> staged;
-  std::string isa;
-  bool shard_run = options.shard.has_value();
-  // Everything that can be wrong with the input is found here, before any work or any file.
+  RunPlan plan;
   try {
-    if (options.out_dir && options.out_dir->empty()) throw InputError("--out '': an output folder is required");
-    if (resume && options.resume_dir->empty())
-      throw InputError("--resume '': the folder of an interrupted run is required");
-    dir = resume ? resume_target(*options.resume_dir) : options.out_dir.value_or("results");
-    if (resume && options.out_dir && !same_folder(*options.out_dir, dir)) {
-      throw InputError("--out " + *options.out_dir + ": --resume " + dir + " finishes the run in " + dir +
-                       " itself; leave out --out, or give the same folder");
-    }
-    if (resume && collective) throw InputError("--resume runs in one process: not under MPI (mpirun)");
-    if (options.shard && collective) throw InputError("--shard and MPI (mpirun) cannot be combined");
-    settings = load_settings(options, extensions);
-    check_scene_option(options, settings);
-    isa = kernel_isa_name();
-    if (options.shard) std::tie(slice.shard_index, slice.shard_count) = parse_shard(*options.shard);
-    if (collective) {
-      slice.shard_index = collective->rank;
-      slice.shard_count = collective->size;
-      StagedDir::check(dir, options.replace, common::StaleStaging::kRefuse);  // every rank: the same answer
-    } else if (resume) {
-      staged.emplace(open_for_resume(dir, options.replace));
-      shard_run = load_checkpoint(*staged, options, settings, extensions, slice);
-    } else {
-      staged.emplace(StagedDir::create(dir, options.replace, common::StaleStaging::kRefuse));
-    }
+    plan_run(options, extensions, plan);
   } catch (...) {
-    return report_current_exception(err, kApp, resume ? "--resume" : "--out");
+    return report_current_exception(err, kApp, options.resume_dir.has_value() ? "--resume" : "--out");
   }
-
-  const int threads = threads_of(settings);
   try {
-    if (collective) return run_collective(options, extensions, settings, slice, dir, *collective, isa, out, err);
-
-    const fs::path stage = staged->path();
-    const std::vector<std::string> extra = extra_metric_names(settings, extensions);
-    write_file_atomically((stage / "config.ini").string(), to_ini(settings));
-    // The checkpoint starts as its verified prefix (a fresh run: the header alone).
-    RecordsWriter writer;
-    std::string prefix = writer.header({shard_run ? kRecordsKindShard : kRecordsKindRun, slice.shard_index,
-                                        slice.shard_count, config_digest(settings)});
-    std::vector<TrialRecord> kept_rows;
-    for (const auto& [p, rows] : slice.finished_points) {
-      prefix += writer.point(p, rows);
-      kept_rows.insert(kept_rows.end(), rows.begin(), rows.end());
+    if (plan.collective) {
+      return run_collective(options, extensions, plan.settings, plan.slice, plan.dir, *plan.collective, plan.isa, out,
+                            err);
     }
-    if (!shard_run) {
-      common::write_stream_atomically((stage / "trials.csv.partial").string(), [&](std::ostream& o) {
-        write_trials_header(o, extra);
-        write_trials_rows(o, kept_rows, extra.size());
-      });
-      common::write_stream_atomically((stage / "positions.csv.partial").string(), [&](std::ostream& o) {
-        write_positions_header(o);
-        write_positions_rows(o, kept_rows);
-      });
-    }
-    write_file_atomically((stage / "records.partial").string(), prefix);
-    if (resume) {
-      err << "losmimo-experiment: resuming " << dir << ": " << slice.finished_points.size() << " of "
-          << num_sweep_points(settings) << " points already finished\n";
-    }
-
-    std::ofstream records_part(stage / "records.partial", std::ios::binary | std::ios::app);
-    std::ofstream trials_part, positions_part;
-    if (!shard_run) {
-      trials_part.open(stage / "trials.csv.partial", std::ios::binary | std::ios::app);
-      positions_part.open(stage / "positions.csv.partial", std::ios::binary | std::ios::app);
-    }
-    const auto sink = [&](int point, const std::vector<TrialRecord>& rows) {
-      if (!shard_run) {
-        write_trials_rows(trials_part, rows, extra.size());
-        write_positions_rows(positions_part, rows);
-        trials_part.flush();
-        positions_part.flush();
-      }
-      // The checkpoint last: a `d` line promises the point is complete everywhere.
-      records_part << writer.point(point, rows);
-      records_part.flush();
-      if (!records_part || (!shard_run && (!trials_part || !positions_part))) {
-        throw std::runtime_error("writing the checkpoint in " + stage.string() + " failed");
-      }
-      common::test_pause_point("experiment.point_done");
-    };
-    detail::Progress progress(err);
-    const auto t0 = std::chrono::steady_clock::now();
-    if (shard_run) slice.traces = false;
-    const ExperimentResults results = run_experiment(settings, extensions, threads, slice, std::ref(progress), sink);
-    const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    RunTiming timing{wall_s, threads};
-    timing.isa = isa;
-    if (shard_run) {
-      records_part << writer.end();
-      records_part.close();
-      if (!records_part) throw std::runtime_error("writing records.partial failed");
-      fs::rename(stage / "records.partial", stage / "records.csv");
-      std::ostringstream shard;
-      shard << "\n[shard]\nindex = " << slice.shard_index << "\ncount = " << slice.shard_count
-            << "\n# this shard's run, reported by the merge\nthreads = " << threads
-            << "\nwall_s = " << common::format_g(wall_s, common::kExactDigits) << "\nisa = " << isa << "\n";
-      staged->publish(detail::experiment_manifest("shard", settings, results.records.size(), shard.str()));
-      out << "losmimo-experiment: shard " << slice.shard_index << "/" << slice.shard_count << ": "
-          << results.records.size() << " trial rows, " << describe(timing) << "; records in "
-          << staged->final_path().string() << "/records.csv\n";
-      return kExitOk;
-    }
-    records_part.close();
-    trials_part.close();
-    positions_part.close();
-    if (!records_part || !trials_part || !positions_part) throw std::runtime_error("writing the partial files failed");
-    fs::rename(stage / "trials.csv.partial", stage / "trials.csv");
-    fs::rename(stage / "positions.csv.partial", stage / "positions.csv");
-    write_scene(options, settings, results, stage);
-    detail::finish_and_publish(*staged, "experiment", settings, extensions, results, timing, true, out, err);
-    return kExitOk;
+    return run_in_process(options, plan, extensions, out, err);
   } catch (...) {
     return report_current_exception(err, kApp);
   }

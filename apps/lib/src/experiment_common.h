@@ -12,8 +12,8 @@
 
 #include "losmimo/common/atomic_file.h"
 #include "losmimo/common/format.h"
+#include "losmimo/apps/staged_output.h"
 #include "losmimo/common/input_error.h"
-#include "losmimo/common/staged_output.h"
 #include "losmimo/experiment/engine.h"
 #include "losmimo/experiment/report.h"
 #include "losmimo/experiment/run_folder.h"
@@ -47,9 +47,9 @@ class Progress {
 
 // The manifest of a finished experiment folder: its kind ("experiment", "shard", "merged"),
 // the config digest and the record count; `extra` adds sections (a shard's [shard]).
-inline common::Manifest experiment_manifest(const std::string& kind, const experiment::ExperimentSettings& settings,
-                                            std::size_t records, const std::string& extra = "") {
-  common::Manifest m;
+inline Manifest experiment_manifest(const std::string& kind, const experiment::ExperimentSettings& settings,
+                                    std::size_t records, const std::string& extra = "") {
+  Manifest m;
   m.kind = kind;
   m.run_keys = {{"app", "losmimo-experiment"},
                 {"config_digest", common::format_hex64(experiment::config_digest(settings))},
@@ -73,7 +73,7 @@ inline void check_scene_request(bool scene, bool has_writer, const experiment::E
 
 // Writes config.ini and every output into the staging folder, publishes it, prints the
 // warnings and the last line.
-inline void finish_and_publish(common::StagedDir& staged, const std::string& kind,
+inline void finish_and_publish(StagedDir& staged, const std::string& kind,
                                const experiment::ExperimentSettings& settings,
                                const experiment::ExperimentExtensions& extensions,
                                const experiment::ExperimentResults& results, const experiment::RunTiming& timing,

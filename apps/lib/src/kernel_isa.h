@@ -1,7 +1,7 @@
 #pragma once
 // The placement kernels' instruction set (losmimo/placement/isa.h), checked where an app checks
 // its input: a LOSMIMO_ISA that names no instruction set, or one this CPU cannot run, is the
-// user's to fix (InputError: exit code 2, before any work or file), not a failure mid-run.
+// user's to fix (InputError: kExitBadInput, before any work or file), not a failure mid-run.
 #include <stdexcept>
 #include <string>
 

@@ -1,6 +1,6 @@
 #pragma once
 // How the apps print a failure: "<app>: <message>" with the message made printable (long values
-// shortened, invisible bytes escaped: common/message.h), and for an output that is in the way
+// shortened, invisible bytes escaped: message.h), and for an output that is in the way
 // what the user can do about it.
 #include <exception>
 #include <ostream>
@@ -8,17 +8,17 @@
 
 #include "losmimo/apps/exit_codes.h"
 #include "losmimo/common/input_error.h"
-#include "losmimo/common/message.h"
-#include "losmimo/common/staged_output.h"
+#include "losmimo/apps/message.h"
+#include "losmimo/apps/staged_output.h"
 
 namespace losmimo::apps {
 
 inline void print_error(std::ostream& err, const std::string& app, const std::string& message) {
-  err << app << ": " << common::printable_message(message) << "\n";
+  err << app << ": " << printable_message(message) << "\n";
 }
 
 // `option` names the output option ("--out"); the hint depends on whether --replace would help.
-inline void print_output_exists(std::ostream& err, const std::string& app, const common::OutputExistsError& e,
+inline void print_output_exists(std::ostream& err, const std::string& app, const OutputExistsError& e,
                                 const std::string& option) {
   print_error(err, app,
               std::string(option) + ": " + e.what() +
@@ -33,7 +33,7 @@ inline int report_current_exception(std::ostream& err, const std::string& app,
                                     const std::string& output_option = "--out") {
   try {
     throw;
-  } catch (const common::OutputExistsError& e) {
+  } catch (const OutputExistsError& e) {
     print_output_exists(err, app, e, output_option);
     return kExitBadInput;
   } catch (const common::InputError& e) {

@@ -13,7 +13,7 @@
 #include "losmimo/common/field_error.h"
 #include "losmimo/common/format.h"
 #include "losmimo/common/input_error.h"
-#include "losmimo/common/staged_output.h"
+#include "losmimo/apps/staged_output.h"
 #include "losmimo/mrpt_logs/beacon_list.h"
 #include "losmimo/mrpt_logs/mrpt_app_config.h"
 #include "losmimo/mrpt_logs/range_replay.h"
@@ -99,6 +99,17 @@ RangeReplayOptions range_options(const ReplayAppOptions& o, const MrptAppConfig*
   }
   return ro;
 }
+// The beacon map: --beacons FILE, else the --mrpt-config's (InputError if it has none).
+localization::BeaconMap beacon_map_of(const ReplayAppOptions& options, const MrptAppConfig* cfg) {
+  if (!options.beacons_path.empty()) return read_beacon_list(options.beacons_path);
+  if (cfg->beacons.empty()) {
+    throw common::InputError(
+        options.mrpt_config +
+        ": no beacon map ([MetricMap_landmarksMap_00_creationOpts] nBeacons); give --beacons FILE");
+  }
+  return cfg->beacons;
+}
+
 }  // namespace
 
 int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostream& err) {
@@ -111,17 +122,8 @@ int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std
     if (options.out_given && options.out_dir.empty())
       throw common::InputError("--out '': an output folder is required");
     check_scene_option(options.scene, options.out_dir);
-    if (!options.out_dir.empty())
-      common::StagedDir::check(options.out_dir, options.replace, common::StaleStaging::kDiscard);
-    if (!options.beacons_path.empty()) {
-      beacons = read_beacon_list(options.beacons_path);
-    } else if (cfg->beacons.empty()) {
-      throw common::InputError(
-          options.mrpt_config +
-          ": no beacon map ([MetricMap_landmarksMap_00_creationOpts] nBeacons); give --beacons FILE");
-    } else {
-      beacons = cfg->beacons;
-    }
+    if (!options.out_dir.empty()) StagedDir::check(options.out_dir, options.replace, StaleStaging::kDiscard);
+    beacons = beacon_map_of(options, cfg ? &*cfg : nullptr);
     const std::string gt = !options.ground_truth.empty() ? options.ground_truth : cfg ? cfg->ground_truth_file : "";
     if (!gt.empty()) ro.ground_truth = read_relative_ground_truth(gt);
     if (cfg && !cfg->unused_keys.empty()) {
@@ -129,7 +131,7 @@ int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std
       for (const std::string& k : cfg->unused_keys) keys += (keys.empty() ? "" : ", ") + k;
       out << "not used from " << options.mrpt_config << ": " << keys << "\n";
     }
-  } catch (const common::OutputExistsError& e) {
+  } catch (const OutputExistsError& e) {
     print_output_exists(err, kApp, e, "--out");
     return kExitBadInput;
   } catch (const std::exception& e) {  // InputError, or the beacon list cannot be opened

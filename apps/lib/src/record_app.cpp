@@ -10,7 +10,7 @@
 #include "losmimo/apps/unused_keys.h"
 #include "losmimo/coevaluation/extensions.h"
 #include "losmimo/common/ini_config.h"
-#include "losmimo/common/staged_output.h"
+#include "losmimo/apps/staged_output.h"
 #include "losmimo/common/test_hook.h"
 #include "losmimo/experiment/extension.h"
 #include "losmimo/rawlog/log.h"
@@ -29,7 +29,7 @@ namespace {
 constexpr const char* kApp = "losmimo-record";
 
 // The scene of the log just published, read back as losmimo-replay reads it.
-void write_record_scene(const std::string& log_path, common::StagedFile& staged_scene) {
+void write_record_scene(const std::string& log_path, StagedFile& staged_scene) {
   rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::open_file(log_path, {});
   const MissionLog log = load_mission_log(reader);
   const std::string bytes = scene::scene_file_bytes(mission_scene(log, nullptr));
@@ -42,7 +42,7 @@ void write_record_scene(const std::string& log_path, common::StagedFile& staged_
 
 int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostream& err) {
   MissionConfig config;
-  std::optional<common::StagedFile> staged, staged_beacons, staged_scene;
+  std::optional<StagedFile> staged, staged_beacons, staged_scene;
   std::optional<RoExportOutputs> ro_exports;
   try {
     common::IniConfig ini =
@@ -62,14 +62,14 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
     if (!config.closed_loop.refine) record.conditions.push_back(kNoRefinement);
     refuse_unused_overrides(ini, options.overrides, {record});
     if (options.out_path.empty()) throw common::InputError("--out: an output file is required");
-    kernel_isa_name();  // a bad LOSMIMO_ISA stops here, exit code 2
-    staged.emplace(common::StagedFile::create(options.out_path, options.replace));
+    kernel_isa_name();  // a bad LOSMIMO_ISA stops here: kExitBadInput
+    staged.emplace(StagedFile::create(options.out_path, options.replace));
     try {
-      staged_beacons.emplace(common::StagedFile::create(beacons_ini_path(options.out_path), options.replace));
+      staged_beacons.emplace(StagedFile::create(beacons_ini_path(options.out_path), options.replace));
       ro_exports.emplace(RoExportOutputs::create(options.out_path, options.ro_export_uavs,
                                                  config.placement.scenario.num_uavs, options.replace));
       if (options.scene)
-        staged_scene.emplace(common::StagedFile::create(scene_path_beside(options.out_path), options.replace));
+        staged_scene.emplace(StagedFile::create(scene_path_beside(options.out_path), options.replace));
     } catch (...) {
       std::error_code ignored;  // the staged files were just created, empty: no litter from a refused run
       std::filesystem::remove(staged->path(), ignored);
@@ -86,7 +86,7 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
     ro.after_epoch_mark = [](int) { common::test_pause_point("record.epoch_mark"); };
     const RecordResult r = record_mission(config, ro);
     staged->publish();
-    // The beacon map of the BS_RANGES streams, for stock MRPT apps (docs/rawlog-format.md).
+    // The beacon map of the BS_RANGES streams, for stock MRPT apps (docs/replay.md).
     {
       std::ofstream f(staged_beacons->path());
       if (!(f << mission_beacons_ini_text(config)) || !f.flush())
@@ -122,7 +122,7 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
       return kExitFault;
     }
     return kExitOk;
-  } catch (const common::OutputExistsError& e) {
+  } catch (const OutputExistsError& e) {
     print_output_exists(err, kApp, e, "--out");
     return kExitBadInput;
   } catch (const std::exception& e) {

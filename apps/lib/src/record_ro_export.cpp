@@ -43,7 +43,7 @@ RoExportOutputs RoExportOutputs::create(const std::string& log_path, const std::
       entry.log_output_dir = p.log_output_dir;
       out.uavs_.push_back(std::move(entry));
       for (const std::string* path : {&p.rawlog, &p.ini, &p.ground_truth})
-        out.uavs_.back().files.push_back(common::StagedFile::create(*path, replace));
+        out.uavs_.back().files.push_back(StagedFile::create(*path, replace));
     }
   } catch (...) {
     out.discard();
@@ -58,13 +58,13 @@ void RoExportOutputs::write(const std::string& log_path, std::ostream& out) {
   const rawlog::MissionLog log = rawlog::load_mission_log(reader);
   for (Uav& u : uavs_) {
     const rawlog::RoExport ro = rawlog::build_ro_export(log, u.uav);
-    common::StagedFile &rawlog_file = u.files[0], &ini = u.files[1], &truth = u.files[2];
+    StagedFile &rawlog_file = u.files[0], &ini = u.files[1], &truth = u.files[2];
     rawlog::write_ro_rawlog(ro, rawlog_file.path());
     write_text(truth.path(), rawlog::ro_ground_truth_text(ro));
     write_text(ini.path(),
                rawlog::ro_localization_ini_text(ro, {file_name(rawlog_file.final_path()), file_name(truth.final_path()),
                                                      file_name(u.log_output_dir)}));
-    for (common::StagedFile& f : u.files) f.publish();
+    for (StagedFile& f : u.files) f.publish();
     int ranges = 0;
     for (const rawlog::RoFrame& f : ro.frames) ranges += f.range_m ? 1 : 0;
     out << "losmimo-record: UAV " << u.uav << " for stock ro-localization: " << rawlog_file.final_path() << " ("
@@ -75,7 +75,7 @@ void RoExportOutputs::write(const std::string& log_path, std::ostream& out) {
 
 void RoExportOutputs::discard() {
   for (const Uav& u : uavs_)
-    for (const common::StagedFile& f : u.files) {
+    for (const StagedFile& f : u.files) {
       std::error_code ignored;
       std::filesystem::remove(f.path(), ignored);
     }

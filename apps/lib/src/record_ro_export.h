@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/common/staged_output.h"
+#include "losmimo/apps/staged_output.h"
 
 namespace losmimo::apps {
 
@@ -26,7 +26,7 @@ class RoExportOutputs {
  private:
   struct Uav {
     int uav = 0;
-    std::vector<common::StagedFile> files;  // rawlog, ini, ground truth
+    std::vector<StagedFile> files;  // rawlog, ini, ground truth
     std::string log_output_dir;
   };
   std::vector<Uav> uavs_;

@@ -6,7 +6,7 @@
 
 #include "losmimo/apps/exit_codes.h"
 #include "losmimo/common/input_error.h"
-#include "losmimo/common/staged_output.h"
+#include "losmimo/apps/staged_output.h"
 #include "losmimo/common/test_hook.h"
 #include "losmimo/localization/position/filter.h"
 #include "losmimo/rawlog/replay.h"
@@ -24,7 +24,7 @@ namespace {
 constexpr const char* kApp = "losmimo-replay";
 
 // Read to a clean end, and (ours) every mark verified up to END_OF_LOG: the only logs whose
-// replay exits 0 or 3, and whose summary.csv says complete.
+// replay exits kExitOk or kExitFault, and whose summary.csv says complete.
 bool read_completely(const MissionLog& log) {
   const bool clean_end = log.read_status.stop == RawlogStop::kEnd;
   return log.ours ? log.complete && log.integrity_error.empty() && clean_end : clean_end;
@@ -67,12 +67,11 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
       throw common::InputError("--estimator '" + options.estimator + "': must be ekf or pf");
     }
     if (options.refine && options.no_refine) throw common::InputError("--refine and --no-refine together");
-    kernel_isa_name();  // a bad LOSMIMO_ISA stops here, exit code 2
+    kernel_isa_name();  // a bad LOSMIMO_ISA stops here: kExitBadInput
     if (options.out_given && options.out_dir.empty())
       throw common::InputError("--out '': an output folder is required");
     check_scene_option(options.scene, options.out_dir);
-    if (!options.out_dir.empty())
-      common::StagedDir::check(options.out_dir, options.replace, common::StaleStaging::kDiscard);
+    if (!options.out_dir.empty()) StagedDir::check(options.out_dir, options.replace, StaleStaging::kDiscard);
   } catch (...) {
     return report_current_exception(err, kApp);
   }
@@ -85,7 +84,7 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
   try {
     RawlogReader reader = RawlogReader::open_file(options.rawlog_path, reader_options);
     log = load_mission_log(reader);
-    // (An incomplete log goes on: its prefix is replayed and the exit code is 1 with where reading stopped.)
+    // (An incomplete log goes on: its prefix is replayed, kExitFailure with where reading stopped.)
     if (!log.ours && read_completely(log)) {
       if (const std::string why = unusable_foreign_log(log); !why.empty()) throw common::InputError(why);
       if (const std::string why = landmark_log_needs_map(options.rawlog_path); !why.empty())

@@ -10,7 +10,7 @@
 
 #include "losmimo/apps/exit_codes.h"
 #include "losmimo/common/input_error.h"
-#include "losmimo/common/staged_output.h"
+#include "losmimo/apps/staged_output.h"
 #include "losmimo/common/test_hook.h"
 #include "messages.h"
 
@@ -23,7 +23,7 @@ inline void check_scene_option(bool scene, const std::string& out_dir) {
 }
 
 // Called inside a catch (...) around reading and replaying `rawlog_path`: bad input and a file
-// that cannot be opened exit 2, anything else is a failed replay (exit 1).
+// that cannot be opened are kExitBadInput, anything else is a failed replay (kExitFailure).
 inline int report_replay_error(std::ostream& err, const std::string& app, const std::string& rawlog_path) {
   try {
     throw;
@@ -46,15 +46,15 @@ inline int publish_replay_outputs(const std::string& out_dir, bool replace, bool
                                   const std::string& app) {
   if (out_dir.empty()) return kExitOk;
   try {
-    common::StagedDir staged = common::StagedDir::create(out_dir, replace, common::StaleStaging::kDiscard);
+    StagedDir staged = StagedDir::create(out_dir, replace, StaleStaging::kDiscard);
     write(staged.path());
     common::test_pause_point("replay.outputs_written");
-    common::Manifest m;
+    Manifest m;
     m.kind = "replay";
     m.run_keys = {{"app", app}, {"complete", complete ? "true" : "false"}, {"exit_code", std::to_string(exit_code)}};
     staged.publish(m);
     return kExitOk;
-  } catch (const common::OutputExistsError& e) {
+  } catch (const OutputExistsError& e) {
     print_output_exists(err, app, e, "--out");
     return kExitBadInput;
   } catch (const std::exception& e) {

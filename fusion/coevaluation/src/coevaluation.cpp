@@ -228,6 +228,45 @@ std::vector<int> outage_uavs(int num_lost, int num_uavs) {
   return uavs;
 }
 
+namespace {
+
+// ura_ekf and cap_ekf: the planner's believed positions are the EKF's (the same per-UAV source
+// for both); record(run) makes the run's record, whose localization metrics the source sets.
+template <typename Record>
+void run_on_ekf_positions(const experiment::ExperimentSettings& s, const CoevaluationSettings& c,
+                          const placement::PlacementSettings& p, CoevalAlgorithm a, double v,
+                          const placement::ChannelModel& model, const Eigen::Matrix3Xd& start, std::uint64_t seed,
+                          const Record& record) {
+  const placement::Scenario& scenario = s.placement.scenario;
+  const localization::SimulatorConfig sim = simulator_config(c, scenario, v);
+  EkfPositionSource source(scenario, sim, filter_config(c, sim), scenario.num_uavs, seed);
+  placement::Swarm swarm(model, start, p.errors, seed);
+  swarm.set_position_estimator([&source](int m, const Eigen::Vector3d& q) { return source.estimate(m, q); });
+  const experiment::Algorithm planned =
+      a == CoevalAlgorithm::kCapEkf ? experiment::Algorithm::kCap : experiment::ura_algorithm_of(c.ura_variant);
+  const std::unique_ptr<placement::Planner> planner = experiment::make_planner(p, planned);
+  const placement::RunResult run =
+      placement::run_placement(*planner, swarm, experiment::run_options_of(p, planned, s.placement.run));
+  source.set_metrics(record(run));  // after the run: the source's statistics are the run's
+}
+
+// centralized: the Ceres solution of the trial's start (shared through `cache`, when given, by
+// every sweep point of the trial), flown as one move.
+placement::RunResult centralized_trial_run(const experiment::ExperimentSettings& s, int trial,
+                                           const Eigen::Matrix3Xd& start, CentralizedCache* cache) {
+  const placement::Scenario& scenario = s.placement.scenario;
+  fusion::CentralizedConfig cc;
+  cc.target_icn = s.placement.run.target_icn;
+  const auto solve = [&] { return fusion::solve_centralized(scenario, start, cc); };
+  const std::string key =
+      placement::to_ini(s.placement) + "#start " + std::to_string(experiment::trial_start_seed(s, trial));
+  const std::shared_ptr<const fusion::CentralizedResult> solution =
+      cache ? cache->get(key, solve) : std::make_shared<const fusion::CentralizedResult>(solve());
+  return centralized_run(scenario, start, *solution);
+}
+
+}  // namespace
+
 std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::ExperimentSettings& s, int point,
                                                             int trial, CentralizedCache* cache) {
   const experiment::SweepPoints* sweep = s.sweep(kSweepBeaconNoise);
@@ -282,28 +321,11 @@ std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::Ex
       }
       case CoevalAlgorithm::kUraEkf:
       case CoevalAlgorithm::kCapEkf: {
-        // The planner's believed positions are the EKF's (the same per-UAV source for both).
-        const localization::SimulatorConfig sim = simulator_config(c, scenario, v);
-        EkfPositionSource source(scenario, sim, filter_config(c, sim), scenario.num_uavs, seed);
-        placement::Swarm swarm(model, start, p.errors, seed);
-        swarm.set_position_estimator([&source](int m, const Eigen::Vector3d& q) { return source.estimate(m, q); });
-        const experiment::Algorithm planned =
-            a == CoevalAlgorithm::kCapEkf ? experiment::Algorithm::kCap : experiment::ura_algorithm_of(c.ura_variant);
-        const std::unique_ptr<placement::Planner> planner = experiment::make_planner(p, planned);
-        const placement::RunResult run =
-            placement::run_placement(*planner, swarm, experiment::run_options_of(p, planned, s.placement.run));
-        source.set_metrics(record(run));  // after the run: the source's statistics are the run's
+        run_on_ekf_positions(s, c, p, a, v, model, start, seed, record);
         break;
       }
       case CoevalAlgorithm::kCentralized: {
-        fusion::CentralizedConfig cc;
-        cc.target_icn = s.placement.run.target_icn;
-        const auto solve = [&] { return fusion::solve_centralized(scenario, start, cc); };
-        const std::string key =
-            placement::to_ini(s.placement) + "#start " + std::to_string(experiment::trial_start_seed(s, trial));
-        const std::shared_ptr<const fusion::CentralizedResult> solution =
-            cache ? cache->get(key, solve) : std::make_shared<const fusion::CentralizedResult>(solve());
-        not_applicable(record(centralized_run(scenario, start, *solution)),
+        not_applicable(record(centralized_trial_run(s, trial, start, cache)),
                        {kLocRmse, kLocLateralRmse, kNees, kBfFallbackFraction, kBeaconLateralRmse, kPairedTravelDiff,
                         kPairedIterationsDiff});
         break;

@@ -211,87 +211,99 @@ std::string csi_claims(const ExperimentSettings& s, const std::vector<SummaryRow
   return o.str();
 }
 
-std::string bs_claims(const ExperimentSettings& s, const std::vector<SummaryRow>& rows) {
+// C1: random placement against the URA at each array size (needs both).
+void bs_claim_random_limited(std::ostream& o, const ExperimentSettings& s, const std::vector<SummaryRow>& rows) {
+  const std::string S = kSweepBsAntennas;
   const SweepPoints& p = *s.sweep(kSweepBsAntennas);
+  const MetricId zf = metrics::kSumRateZfBpsHz, nv = metrics::kSumRateNvBpsHz;
+  o << "- C1, \"LoS makes the channel highly correlated, which limits the multiplexing gain of random placement\": "
+       "random placement reaches ";
+  int limited = 0;
+  for (std::size_t i = 0; i < p.values.size(); ++i) {
+    const double v = p.values[i];
+    const double share_zf = mean(rows, S, v, "random", zf) / mean(rows, S, v, "ura", zf);
+    const double share_nv = mean(rows, S, v, "random", nv) / mean(rows, S, v, "ura", nv);
+    limited += share_zf < 0.5 || share_nv < 0.5 ? 1 : 0;
+    o << (i ? "; " : "") << fmt(100.0 * share_zf, 0) << "% (ZF) and " << fmt(100.0 * share_nv, 0)
+      << "% (NV) of the URA's sum rate at " << value_label(S, v) << " antennas";
+  }
+  o << ". "
+    << (limited == static_cast<int>(p.values.size()) ? "**Supports** it at every size"
+        : limited > 0 ? "**Supports** it where a share is below 50%, **contradicts** it for the other sizes "
+                        "(random rows of a large array are nearly orthogonal already)"
+                      : "**Contradicts** it at every size swept")
+    << ".\n";
+}
+
+// C2: the URAs' LoS ICN at the final positions.
+void bs_claim_infinite_set(std::ostream& o, const ExperimentSettings& s, const std::vector<SummaryRow>& rows) {
+  const std::string S = kSweepBsAntennas;
+  const SweepPoints& p = *s.sweep(kSweepBsAntennas);
+  o << "- C2, \"the capacity bound is reached on an infinite set of placements\": the LoS ICN at the final positions "
+       "is ";
+  std::string parts;
+  for (const double v : p.values) {
+    for (const std::string a : {"ura", "ura_lattice"}) {
+      const double icn = mean(rows, S, v, a, kFinalIcnLos);
+      if (std::isfinite(icn)) parts += (parts.empty() ? "" : ", ") + a + " " + fmt(icn, 3) + " at " + value_label(S, v);
+    }
+  }
+  o << parts
+    << ". The rigid URA and the lattice URA (each UAV at its own depth, shifted by whole lateral periods) "
+       "are different placements with the same bound, and with more antennas than UAVs any "
+    << s.placement.scenario.num_uavs << " of the Nt slots do: **supports** it.\n";
+}
+
+// C4 and C3: the movers' gain over random placement at the largest array, and their travel.
+void bs_claims_gain_and_travel(std::ostream& o, const ExperimentSettings& s, const std::vector<SummaryRow>& rows) {
+  const std::string S = kSweepBsAntennas;
+  const SweepPoints& p = *s.sweep(kSweepBsAntennas);
+  const MetricId zf = metrics::kSumRateZfBpsHz, nv = metrics::kSumRateNvBpsHz;
+  const double big = *std::max_element(p.values.begin(), p.values.end());
+  const auto gain = [&](const std::string& a, MetricId m) {
+    return mean(rows, S, big, a, m) / mean(rows, S, big, "random", m);
+  };
+  bool zf_holds = true, nv_holds = true;
+  for (const Algorithm a : {Algorithm::kGd, Algorithm::kBf}) {
+    if (!runs(s, a)) continue;
+    zf_holds = zf_holds && gain(to_string(a), zf) >= kSignificantGain;
+    nv_holds = nv_holds && gain(to_string(a), nv) >= kSignificantGain;
+  }
+  o << "- C4, \"the capacity increase persists with a massive-MIMO ground station\": at " << value_label(S, big)
+    << " antennas the sum rate over random placement is "
+    << per_mover(s, [&](const std::string& a) { return fmt(gain(a, zf)) + "x (ZF) / " + fmt(gain(a, nv)) + "x (NV)"; })
+    << ". "
+    << (zf_holds && nv_holds ? "**Supports** it for both receivers"
+        : nv_holds           ? "**Supports** it for the matched filter (NV) only; with zero-forcing the gain vanishes, "
+                               "because random rows of a large array are nearly orthogonal (favourable propagation)"
+        : zf_holds           ? "**Supports** it for zero-forcing only"
+                             : "**Contradicts** it for both receivers")
+    << " (criterion: >= " << fmt(kSignificantGain, 1) << "x).\n";
+  o << "- C3, \"a significant capacity increase at the cost of a bounded translation\": total distance per UAV "
+    << per_mover(s,
+                 [&](const std::string& a) {
+                   std::string d;
+                   for (const double v : p.values)
+                     d += (d.empty() ? "" : " / ") + fmt(mean(rows, S, v, a, metrics::kDistTotalM), 1);
+                   return d + " m";
+                 })
+    << " at " <<
+      [&] {
+        std::string v;
+        for (const double x : p.values) v += (v.empty() ? "" : " / ") + value_label(S, x);
+        return v;
+      }()
+    << " antennas, against a " << common::format_double(s.placement.scenario.cube_side_m)
+    << " m start cube: bounded, **supports** it where the gain above is significant.\n";
+}
+
+std::string bs_claims(const ExperimentSettings& s, const std::vector<SummaryRow>& rows) {
   std::ostringstream o;
   o << claims_header();
-  const std::string S = kSweepBsAntennas;
-  const MetricId zf = metrics::kSumRateZfBpsHz, nv = metrics::kSumRateNvBpsHz;
   const bool ura = runs(s, Algorithm::kUra), random = runs(s, Algorithm::kRandom);
-  if (ura && random) {
-    o << "- C1, \"LoS makes the channel highly correlated, which limits the multiplexing gain of random placement\": "
-         "random placement reaches ";
-    int limited = 0;
-    for (std::size_t i = 0; i < p.values.size(); ++i) {
-      const double v = p.values[i];
-      const double share_zf = mean(rows, S, v, "random", zf) / mean(rows, S, v, "ura", zf);
-      const double share_nv = mean(rows, S, v, "random", nv) / mean(rows, S, v, "ura", nv);
-      limited += share_zf < 0.5 || share_nv < 0.5 ? 1 : 0;
-      o << (i ? "; " : "") << fmt(100.0 * share_zf, 0) << "% (ZF) and " << fmt(100.0 * share_nv, 0)
-        << "% (NV) of the URA's sum rate at " << value_label(S, v) << " antennas";
-    }
-    o << ". "
-      << (limited == static_cast<int>(p.values.size()) ? "**Supports** it at every size"
-          : limited > 0 ? "**Supports** it where a share is below 50%, **contradicts** it for the other sizes "
-                          "(random rows of a large array are nearly orthogonal already)"
-                        : "**Contradicts** it at every size swept")
-      << ".\n";
-  }
-  if (ura || runs(s, Algorithm::kUraLattice)) {
-    o << "- C2, \"the capacity bound is reached on an infinite set of placements\": the LoS ICN at the final positions "
-         "is ";
-    std::string parts;
-    for (const double v : p.values) {
-      for (const std::string a : {"ura", "ura_lattice"}) {
-        const double icn = mean(rows, S, v, a, kFinalIcnLos);
-        if (std::isfinite(icn))
-          parts += (parts.empty() ? "" : ", ") + a + " " + fmt(icn, 3) + " at " + value_label(S, v);
-      }
-    }
-    o << parts
-      << ". The rigid URA and the lattice URA (each UAV at its own depth, shifted by whole lateral periods) "
-         "are different placements with the same bound, and with more antennas than UAVs any "
-      << s.placement.scenario.num_uavs << " of the Nt slots do: **supports** it.\n";
-  }
-  if (random) {
-    const double big = *std::max_element(p.values.begin(), p.values.end());
-    const auto gain = [&](const std::string& a, MetricId m) {
-      return mean(rows, S, big, a, m) / mean(rows, S, big, "random", m);
-    };
-    bool zf_holds = true, nv_holds = true;
-    for (const Algorithm a : {Algorithm::kGd, Algorithm::kBf}) {
-      if (!runs(s, a)) continue;
-      zf_holds = zf_holds && gain(to_string(a), zf) >= kSignificantGain;
-      nv_holds = nv_holds && gain(to_string(a), nv) >= kSignificantGain;
-    }
-    o << "- C4, \"the capacity increase persists with a massive-MIMO ground station\": at " << value_label(S, big)
-      << " antennas the sum rate over random placement is "
-      << per_mover(s,
-                   [&](const std::string& a) { return fmt(gain(a, zf)) + "x (ZF) / " + fmt(gain(a, nv)) + "x (NV)"; })
-      << ". "
-      << (zf_holds && nv_holds ? "**Supports** it for both receivers"
-          : nv_holds ? "**Supports** it for the matched filter (NV) only; with zero-forcing the gain vanishes, "
-                       "because random rows of a large array are nearly orthogonal (favourable propagation)"
-          : zf_holds ? "**Supports** it for zero-forcing only"
-                     : "**Contradicts** it for both receivers")
-      << " (criterion: >= " << fmt(kSignificantGain, 1) << "x).\n";
-    o << "- C3, \"a significant capacity increase at the cost of a bounded translation\": total distance per UAV "
-      << per_mover(s,
-                   [&](const std::string& a) {
-                     std::string d;
-                     for (const double v : p.values)
-                       d += (d.empty() ? "" : " / ") + fmt(mean(rows, S, v, a, metrics::kDistTotalM), 1);
-                     return d + " m";
-                   })
-      << " at " <<
-        [&] {
-          std::string v;
-          for (const double x : p.values) v += (v.empty() ? "" : " / ") + value_label(S, x);
-          return v;
-        }()
-      << " antennas, against a " << common::format_double(s.placement.scenario.cube_side_m)
-      << " m start cube: bounded, **supports** it where the gain above is significant.\n";
-  }
+  if (ura && random) bs_claim_random_limited(o, s, rows);
+  if (ura || runs(s, Algorithm::kUraLattice)) bs_claim_infinite_set(o, s, rows);
+  if (random) bs_claims_gain_and_travel(o, s, rows);
   return o.str();
 }
 

@@ -77,15 +77,13 @@ bool agrees(const Estimate& e, const PaperValue& p) {
   return std::abs(e.mean - p.paper) <= ci + p.resolution;
 }
 
-ReadingResults measure_readings(const ExperimentSettings& s, const ExperimentExtensions& extensions, int threads) {
-  ReadingResults out;
-  if (s.readings.empty()) return out;
-  out.readings = s.readings;
-  out.trials = std::min(s.reading_trials, s.trials);
+namespace {
 
-  // The values measured and the points they need.
+// The paper values the run can measure (into out.values and out.value_numbers) and the sweep
+// points they need, each with its algorithms; point_of_value[v]: value v's point.
+std::vector<PointJob> points_of_values(const ExperimentSettings& s, ReadingResults& out,
+                                       std::vector<int>& point_of_value) {
   std::vector<PointJob> points;
-  std::vector<int> point_of_value;
   const std::vector<PaperValue> all = paper_values();
   for (std::size_t i = 0; i < all.size(); ++i) {
     const PaperValue& p = all[i];
@@ -102,12 +100,15 @@ ReadingResults measure_readings(const ExperimentSettings& s, const ExperimentExt
     }
     point_of_value.push_back(static_cast<int>(job - points.begin()));
   }
+  return points;
+}
 
-  // Configuration 0 is the base, 1.. the readings; each runs only the algorithms its points need.
-  std::vector<ExperimentSettings> configs{s};
-  configs[0].readings.clear();
-  for (const ReadingSpec& r : s.readings) configs.push_back(apply_reading(s, r, extensions));
-  const int trials = out.trials;
+// Every (configuration, point, trial) job's records, slot (c * points + point) * trials + trial,
+// on `threads` threads; configuration 0 is the base, 1.. the readings, each running only the
+// algorithms its points need that it changes.
+std::vector<std::vector<TrialRecord>> run_reading_jobs(const ExperimentSettings& s,
+                                                       const std::vector<ExperimentSettings>& configs,
+                                                       const std::vector<PointJob>& points, int trials, int threads) {
   const std::size_t num_jobs = configs.size() * points.size() * static_cast<std::size_t>(trials);
   std::vector<std::vector<TrialRecord>> slots(num_jobs);
   std::atomic<std::size_t> next{0};
@@ -137,6 +138,25 @@ ReadingResults measure_readings(const ExperimentSettings& s, const ExperimentExt
   for (int t = 0; t < n_threads; ++t) pool.emplace_back(worker);
   for (std::thread& t : pool) t.join();
   if (failure) std::rethrow_exception(failure);
+  return slots;
+}
+
+}  // namespace
+
+ReadingResults measure_readings(const ExperimentSettings& s, const ExperimentExtensions& extensions, int threads) {
+  ReadingResults out;
+  if (s.readings.empty()) return out;
+  out.readings = s.readings;
+  out.trials = std::min(s.reading_trials, s.trials);
+  std::vector<int> point_of_value;
+  const std::vector<PointJob> points = points_of_values(s, out, point_of_value);
+
+  // Configuration 0 is the base, 1.. the readings; each runs only the algorithms its points need.
+  std::vector<ExperimentSettings> configs{s};
+  configs[0].readings.clear();
+  for (const ReadingSpec& r : s.readings) configs.push_back(apply_reading(s, r, extensions));
+  const int trials = out.trials;
+  const std::vector<std::vector<TrialRecord>> slots = run_reading_jobs(s, configs, points, trials, threads);
 
   // Per configuration and value: the per-trial values (NaN where undefined). A reading that
   // cannot change the value's algorithm was not run: its values are the base's.

@@ -21,7 +21,7 @@
 // gate barely moves the track, while a reading the filter wrongly gated while it was off can
 // count again once the track is right. (A Huber loss, linear beyond a, keeps the outliers'
 // linear pull: on MRPT's UWB demo, whose ranges hold ~13 % outliers, it smooths worse than the
-// filter, 0.36 m RMSE against 0.14 m; docs/localization.md.) Being non-convex, the Cauchy
+// filter, 0.36 m RMSE against 0.14 m; docs/range-only.md.) Being non-convex, the Cauchy
 // problem needs a good start: the filter's track.
 // Modes (window_frames):
 //   0      full batch: one problem over the whole log (a = 0, b = last); every frame gets the

@@ -25,6 +25,7 @@
 #include "losmimo/rawlog/format.h"
 #include "losmimo/mrpt_logs/mrpt_app_config.h"
 #include "losmimo/common/input_error.h"
+#include "losmimo/common/seed.h"
 #include "losmimo/placement/metrics.h"
 #include "stock_streams.h"
 
@@ -135,7 +136,7 @@ class Recorder : public fusion::ClosedLoopObserver {
         options_(options),
         writer_(options.out_path, options.compression_level),
         model_(config.placement.scenario),
-        csi_rng_(config.seed ^ 0x5EED'C51C'0000'0006ULL) {}
+        csi_rng_(recorder_csi_seed(config.seed)) {}
 
   void on_start(const std::vector<std::uint64_t>& filter_seeds) override {
     const int nr = static_cast<int>(filter_seeds.size());
@@ -289,6 +290,10 @@ class Recorder : public fusion::ClosedLoopObserver {
 };
 
 }  // namespace
+
+std::uint64_t recorder_csi_seed(std::uint64_t mission_seed) {
+  return common::tagged_seed(mission_seed, kRecorderCsiStreamTag);
+}
 
 RecordResult record_mission(const MissionConfig& config, const RecordOptions& options) {
   Recorder recorder(config, options);

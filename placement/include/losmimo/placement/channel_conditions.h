@@ -6,7 +6,7 @@
 //            far field, R / d_nk with the exact gain)
 //   K        the Rician K-factor (linear), from rician_k_db
 //   a, b     sqrt(K / (K + 1)) and sqrt(1 / (K + 1)): a^2 + b^2 = 1, so E|H_nk|^2 = g_nk^2, the
-//            LoS power of today's model
+//            LoS power of the pure LoS model
 //   S_beta   the scatter of coherence block beta: i.i.d. CN(0, 1) entries (Nr x Nt)
 //   sigma_e  estimation noise per entry, sigma_e^2 = 10^(-csi_snr_db / 10) relative to the
 //            unit entry gain: the per-entry SNR of the channel estimate after pilot processing
@@ -14,7 +14,7 @@
 //   true channel   H(q)  = a L(q) + b (g o S_beta)        (o: entrywise product)
 //   measured CSI   Y(q)  = H(q) + sigma_e W,  W i.i.d. CN(0, 1), fresh at every measurement
 //
-// K = infinity (a = 1, b = 0) and csi_snr_db = infinity (sigma_e = 0) are today's channel: then
+// K = infinity (a = 1, b = 0) and csi_snr_db = infinity (sigma_e = 0) are the pure LoS channel: then
 // nothing here is drawn or computed (ChannelSettings::active() is false), so results are the same
 // bit for bit. "Off" is a flag, never a = sqrt(inf / inf).
 //

@@ -3,7 +3,8 @@
 // Output: a readable table, or with csv = true the lines
 //   stream,sinr_nv_db,sinr_zf_db,sinr_mf_db      (one row per stream, 1-based)
 //   icn,<v>  objective,<v>  sum_rate_nv_bps_hz,<v>  sum_rate_zf_bps_hz,<v>
-// Returns the process exit code: 0 ok, 2 bad input (message on err naming file, line, field).
+// Returns the process exit code (exit_codes.h); on bad input the message on err names the file,
+// line and field.
 // Fewer UAVs than BS antennas is reported (ICN 0, ZF undefined), not an error.
 
 #include <iosfwd>

@@ -1,5 +1,6 @@
 #pragma once
-// The exit codes of every losmimo app.
+// The exit codes of every losmimo app, declared once: mains, app entry points and their headers
+// name these enumerators, never the numbers.
 
 namespace losmimo::apps {
 

@@ -38,7 +38,7 @@ struct ExperimentOptions {
   // (threads and plots may differ). `--out` may only name the same folder.
   std::optional<std::string> resume_dir;
   // A finished run already in the output folder (or an interrupted one in `<dir>.partial/`)
-  // is replaced whole; without it the run refuses (exit 2) before any work.
+  // is replaced whole; without it the run refuses (kExitBadInput) before any work.
   bool replace = false;
   const ExperimentCollective* collective = nullptr;  // MPI: ranks split the jobs, rank 0 writes
   // --scene: paths.3Dscene beside paths.png, written by `scene_writer` (given the settings, the
@@ -50,7 +50,7 @@ struct ExperimentOptions {
       scene_writer{};
 };
 // The output folder holds one run or nothing: everything is written into `<dir>.partial/` and
-// renamed into place when complete (common/staged_output.h), with losmimo-run.ini last.
+// renamed into place when complete (staged_output.h), with losmimo-run.ini last.
 int run_experiment_app(const ExperimentOptions& options, const experiment::ExperimentExtensions& extensions,
                        std::ostream& out, std::ostream& err);
 
@@ -66,8 +66,8 @@ struct MergeOptions {
 // `losmimo-experiment merge DIR...`: merges finished shard folders (their manifests say kind =
 // shard, their files and records verify, same config, every shard of 0..N-1 exactly once) into
 // out_dir, byte-identical trials.csv, positions.csv, traces.csv and summary.csv to a
-// single-process run. Bad or missing shards: a message naming the folder (and record) and exit
-// code 2.
+// single-process run. Bad or missing shards: a message naming the folder (and record) and
+// kExitBadInput.
 int merge_experiment_app(const MergeOptions& options, const experiment::ExperimentExtensions& extensions,
                          std::ostream& out, std::ostream& err);
 

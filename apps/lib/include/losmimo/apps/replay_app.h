@@ -2,14 +2,16 @@
 // `losmimo-replay`: a rawlog's sensor stream through an estimator, offline (rawlog/replay.h).
 // Messages go to `err` prefixed "losmimo-replay:", the summary to `out`.
 //
-// Exit code: 0 complete log replayed, 2 bad input (missing file, not a rawlog, bad
-// option or CONFIG), 1 runtime error or truncated/corrupt log (its readable prefix replayed and
-// written, the report says where and why reading stopped), 3 complete log of a run that was
-// ended by a fault (losmimo-record's exit 3): every epoch up to the fault replayed and written,
-// the status and the reason from END_OF_LOG go to `err`.
+// Exit code (exit_codes.h): kExitOk for a complete log replayed; kExitBadInput for a missing
+// file, not a rawlog, a bad option or CONFIG; kExitFailure for a runtime error or a
+// truncated/corrupt log (its readable prefix replayed and written, the report says where and why
+// reading stopped); kExitFault for a complete log of a run that losmimo-record ended by a fault:
+// every epoch up to the fault replayed and written, the status and the reason from END_OF_LOG
+// go to `err`.
 // Outputs (--out DIR) are written into DIR.partial/ and renamed into place with their manifest
-// (common/staged_output.h); summary.csv's `complete` agrees with the exit code. A DIR that holds
-// an earlier replay (or anything else) is refused with exit 2 before reading, unless `replace`.
+// (staged_output.h); summary.csv's `complete` agrees with the exit code. A DIR that holds
+// an earlier replay (or anything else) is refused (kExitBadInput) before reading, unless
+// `replace`.
 #include <iosfwd>
 #include <string>
 
@@ -50,8 +52,8 @@ struct ReplayAppOptions {
   bool scene = false;
 };
 int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostream& err);
-// The range-only replay (options.beacons_path or options.mrpt_config set), same exit codes: 2 also for a log with no
-// usable measurement (no CObservationBeaconRanges, no beacon ID in the map, nothing fused).
+// The range-only replay (options.beacons_path or options.mrpt_config set), same exit codes; kExitBadInput also for a
+// log with no usable measurement (no CObservationBeaconRanges, no beacon ID in the map, nothing fused).
 int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostream& err);
 // The bearing-range replay (landmarks_path set, or mrpt_config a kf-slam INI), same exit codes: 2 also for a
 // log with nothing usable, and with `strict` for a landmark ID the map lacks.

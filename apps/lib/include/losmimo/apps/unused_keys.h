@@ -6,7 +6,7 @@
 // the conditions of the run that switch parts of it off (e.g. "no URA in [experiment]
 // algorithms"). An entry says that its keys are unused by the users or conditions it lists. A
 // key given with --set that every user of the run leaves unused (by its name or by one of its
-// conditions) is refused before any work (exit 2):
+// conditions) is refused before any work (kExitBadInput):
 //   "--set: [errors] sigma_loc_m: not used by the sweep beacon_noise_m: <reason>"
 // Keys in a --config file are not refused: one file serves every app and sweep
 // (datasets/configs/paper.ini), so a file may hold keys for the others.

@@ -1,8 +1,9 @@
 #pragma once
 // The error every reader of user input throws: its message names where (file, line, key or field)
-// and the offending value, so an app can print it and exit with code 2; field() names the
-// setting or field as data ("[scenario] snr_db", "x", "--shard"), empty when the error is not
-// about one field (a file that cannot be opened, a malformed line).
+// and the offending value, so an app can print it and refuse the input (kExitBadInput,
+// apps/exit_codes.h); field() names the setting or field as data ("[scenario] snr_db", "x",
+// "--shard"), empty when the error is not about one field (a file that cannot be opened, a
+// malformed line).
 
 #include <stdexcept>
 #include <string>

@@ -9,6 +9,10 @@
 //                  splitmix64_mix(key + (j + 1) gamma), any j directly (counter-based streams)
 //   derive_seed(base, {p1, p2, ...}, salt)
 //                  h = splitmix64(base); h = splitmix64(h ^ splitmix64(p_i + salt)) per index.
+//   tagged_seed(base, tag)
+//                  base ^ tag: a stream keyed by the base seed and a fixed tag, unmixed, for a
+//                  generator that spreads its seed over its state itself (std::mt19937_64). The
+//                  recorder's CSI stream (rawlog/recorder.h) is one: its logs' CSI depends on it.
 // The experiment's streams use the default salt; the closed loop's per-UAV streams use salt 0
 // (the seeds of the recorded missions, which replay bit for bit only with them).
 
@@ -41,5 +45,7 @@ constexpr std::uint64_t derive_seed(std::uint64_t base, std::initializer_list<st
   for (const std::uint64_t p : path) h = splitmix64(h ^ splitmix64(p + salt));
   return h;
 }
+
+constexpr std::uint64_t tagged_seed(std::uint64_t base, std::uint64_t tag) { return base ^ tag; }
 
 }  // namespace losmimo::common

@@ -7,8 +7,8 @@
 //   name            the column in trials.csv, and <name>_mean / _ci95 / _n in summary.csv
 //   unit            "m", "dB", "bit/s/Hz", "iterations", or "" (a ratio or a flag)
 //   field           the TrialRecord member: a real, an integer (iterations) or a flag (converged)
-//   summary_column  its place among summary.csv's metrics (they keep the order the file has
-//                   always had), or kNotSummarised
+//   summary_column  its place among summary.csv's metrics (a fixed order that readers of the
+//                   file rely on, independent of the table's), or kNotSummarised
 // Extension metrics, ExtensionMetric (an extension's table, ExperimentExtension::metrics; the
 // milestone columns, milestone_metrics()):
 //   name, unit      as above

@@ -1,7 +1,7 @@
 #pragma once
 // What a run folder holds, and reading back an interrupted one. The apps write a run into the
 // staging folder `<out>.partial/` and rename it into place when it is complete
-// (common/staged_output.h); losmimo-run.ini, the manifest, is written last.
+// (apps/staged_output.h); losmimo-run.ini, the manifest, is written last.
 //   config.ini       the full configuration (to_ini)
 //   trials.csv, positions.csv, traces.csv, summary.csv   (csv.h, summary.h)
 //   fig*.png/.gp/.dat, report.md                         (report.h)

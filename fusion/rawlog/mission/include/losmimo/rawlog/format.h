@@ -19,7 +19,7 @@
 //   UAVnn_MOVE         CObservationRawDAQ    AIN_double = {iteration, mode (0 GD, 1 BF,
 //                                            2 escape), commanded x y z, actual x y z}
 // Since version 2, the same dead reckoning and beacon range as the standard MRPT types that
-// stock pf-localization localizes on (one UAV's two streams, extracted, docs/rawlog-format.md):
+// stock pf-localization localizes on (one UAV's two streams, extracted, docs/replay.md):
 //   UAVnn_ODOMETRY     CObservationOdometry  cumulative 2-D odometry: (sum of the measured
 //                                            displacements' x, y since epoch 0, phi = 0), every
 //                                            epoch, right after DR (before TRUTH)

@@ -9,8 +9,8 @@
 // readable prefix that ends at the last mark. END_OF_LOG closes a complete log.
 // CSI: the row the refinement used when the loop measured one (refine with use_csi); otherwise
 // the recorder simulates the row at the true position (simulate_csi, the scenario's noise) with
-// its own generator, so every log carries CSI and can be replayed with refinement. The run
-// itself is the same with or without the recorder.
+// its own generator (std::mt19937_64 seeded with recorder_csi_seed), so every log carries CSI
+// and can be replayed with refinement. The run itself is the same with or without the recorder.
 
 #include <cstdint>
 #include <functional>
@@ -39,6 +39,11 @@ struct RecordOptions {
   // Test hook: called after each EPOCH_END mark was flushed (e.g. to kill the process there).
   std::function<void(int epoch)> after_epoch_mark;
 };
+
+// The seed of the recorder's CSI generator for a mission seed: common::tagged_seed with
+// kRecorderCsiStreamTag. A log's CSI bytes depend on it; the shipped logs were recorded with it.
+inline constexpr std::uint64_t kRecorderCsiStreamTag = 0x5EED'C51C'0000'0006ULL;
+std::uint64_t recorder_csi_seed(std::uint64_t mission_seed);
 
 // Runs and records the mission. Throws std::runtime_error if the file cannot be written.
 RecordResult record_mission(const MissionConfig& config, const RecordOptions& options);

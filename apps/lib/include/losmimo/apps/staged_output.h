@@ -32,15 +32,16 @@
 #include "losmimo/common/ini_config.h"
 #include "losmimo/common/input_error.h"
 
-namespace losmimo::common {
+namespace losmimo::apps {
 
 inline constexpr const char* kManifestName = "losmimo-run.ini";
 inline constexpr const char* kStagingSuffix = ".partial";
 
 // A run's output is in the way; replaceable(): `replace` would replace it whole.
-class OutputExistsError : public InputError {
+class OutputExistsError : public common::InputError {
  public:
-  OutputExistsError(const std::string& message, bool replaceable) : InputError(message), replaceable_(replaceable) {}
+  OutputExistsError(const std::string& message, bool replaceable)
+      : common::InputError(message), replaceable_(replaceable) {}
   bool replaceable() const { return replaceable_; }
 
  private:
@@ -63,10 +64,10 @@ struct Manifest {
   std::string extra_sections;
 };
 // Reads DIR/losmimo-run.ini (strict INI, bounded); InputError naming it if missing or malformed.
-IniConfig read_manifest(const std::filesystem::path& dir);
+common::IniConfig read_manifest(const std::filesystem::path& dir);
 // Checks that every file the manifest lists is there with its size and digest; InputError
 // naming the folder and the first file that differs.
-void verify_manifest_files(const std::filesystem::path& dir, const IniConfig& manifest);
+void verify_manifest_files(const std::filesystem::path& dir, const common::IniConfig& manifest);
 
 enum class StaleStaging { kRefuse, kDiscard };
 
@@ -125,4 +126,4 @@ class StagedFile {
   bool replace_ = false;
 };
 
-}  // namespace losmimo::common
+}  // namespace losmimo::apps

@@ -1,4 +1,4 @@
-#include "losmimo/common/staged_output.h"
+#include "losmimo/apps/staged_output.h"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -19,9 +19,15 @@
 #include "losmimo/common/hash.h"
 #include "losmimo/common/test_hook.h"
 
-namespace losmimo::common {
+namespace losmimo::apps {
 
 namespace fs = std::filesystem;
+using common::fnv1a64;
+using common::format_hex64;
+using common::IniConfig;
+using common::InputError;
+using common::kFnvOffset;
+using common::test_pause_point;
 
 namespace {
 
@@ -414,4 +420,4 @@ void StagedFile::publish() {
   fd_ = -1;
 }
 
-}  // namespace losmimo::common
+}  // namespace losmimo::apps

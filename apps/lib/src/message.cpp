@@ -1,8 +1,8 @@
-#include "losmimo/common/message.h"
+#include "losmimo/apps/message.h"
 
 #include <cstdio>
 
-namespace losmimo::common {
+namespace losmimo::apps {
 
 namespace {
 
@@ -85,4 +85,4 @@ std::string printable_message(std::string_view message) {
   return out;
 }
 
-}  // namespace losmimo::common
+}  // namespace losmimo::apps

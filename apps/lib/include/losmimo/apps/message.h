@@ -10,10 +10,10 @@
 #include <string>
 #include <string_view>
 
-namespace losmimo::common {
+namespace losmimo::apps {
 
 inline constexpr std::size_t kMaxQuotedBytes = 256;
 
 std::string printable_message(std::string_view message);
 
-}  // namespace losmimo::common
+}  // namespace losmimo::apps
