@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
   if (merge->parsed()) {
     if (options.scene) {  // given before `merge`: the run's flag, not the merge's
       std::cerr << "losmimo-experiment: --scene: give it after `merge` (merge ... --scene)\n";
-      return 2;
+      return losmimo::apps::kExitBadInput;
     }
     return losmimo::apps::merge_experiment_app(merge_options, extensions, std::cout, std::cerr);
   }

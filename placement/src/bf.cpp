@@ -6,6 +6,7 @@
 #include <string>
 
 #include "losmimo/common/range.h"
+#include "belief_sweep.h"
 
 namespace losmimo::placement {
 
@@ -157,7 +158,7 @@ bool BruteForcePlanner::try_escape(Swarm& swarm) {
 }
 
 void BruteForcePlanner::iterate(Swarm& swarm, int iteration) {
-  const double b = options_.step * std::pow(options_.decay, iteration - 1);
+  const double b = detail::decayed_step(options_.step, options_.decay, iteration);
   for (int m = 0; m < swarm.num_uavs(); ++m) {
     const double b_m = std::max(b * step_scale_(m), std::min(b, options_.min_step_m));
     const bool moved = step_uav(swarm, m, b_m, options_.probe_actuation) != 0;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "losmimo/placement/channel.h"
+#include "belief_sweep.h"
 
 namespace losmimo::placement {
 
@@ -161,16 +162,9 @@ Eigen::Vector3d CapacityPlanner::plan_step(const Swarm& swarm, int m, const Eige
 }
 
 void CapacityPlanner::iterate(Swarm& swarm, int iteration) {
-  const int nr = swarm.num_uavs();
-  Eigen::Matrix3Xd& q_hat = believed_m_;  // the estimates, then plus the moves: the belief
-  q_hat.resize(3, nr);
-  for (int m = 0; m < nr; ++m) q_hat.col(m) = swarm.estimate_position(m);
-  const double b = options_.step * std::pow(options_.decay, iteration - 1);
-  for (int m = 0; m < nr; ++m) {
-    const Eigen::Vector3d r = plan_step(swarm, m, q_hat.col(m), b);
-    swarm.move(m, r, MotionKind::kPlacement);
-    q_hat.col(m) += r;
-  }
+  const double b = detail::decayed_step(options_.step, options_.decay, iteration);
+  detail::estimate_then_move_each(
+      swarm, believed_m_, [&](int m, const Eigen::Vector3d& q_hat_m) { return plan_step(swarm, m, q_hat_m, b); });
   capacity_bps_hz_ = placement::capacity_bps_hz(swarm.channel().H(), noise_variance_, options_.power);
 }
 

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "losmimo/common/range.h"
+#include "belief_sweep.h"
 
 namespace losmimo::placement {
 
@@ -66,7 +67,7 @@ bool GradientDescentPlanner::try_escape(Swarm& swarm) {
 
 Eigen::Vector3d GradientDescentPlanner::plan_move(const Swarm& swarm, int m, const Eigen::Vector3d& q_hat_m,
                                                   int iteration) const {
-  return plan_step(swarm, m, q_hat_m, options_.step * std::pow(options_.decay, iteration - 1));
+  return plan_step(swarm, m, q_hat_m, detail::decayed_step(options_.step, options_.decay, iteration));
 }
 
 Eigen::Vector3d GradientDescentPlanner::plan_step(const Swarm& swarm, int m, const Eigen::Vector3d& q_hat_m,
@@ -87,16 +88,9 @@ Eigen::Vector3d GradientDescentPlanner::plan_step(const Swarm& swarm, int m, con
 
 void GradientDescentPlanner::iterate(Swarm& swarm, int iteration) {
   // estimatePositionAll(), then calcGradientAndMoveDrone(d) for each drone in turn.
-  const int nr = swarm.num_uavs();
-  Eigen::Matrix3Xd& q_hat = believed_m_;  // the estimates, then plus the moves: the belief
-  q_hat.resize(3, nr);
-  for (int m = 0; m < nr; ++m) q_hat.col(m) = swarm.estimate_position(m);
-  const double b = options_.step * std::pow(options_.decay, iteration - 1);
-  for (int m = 0; m < nr; ++m) {
-    const Eigen::Vector3d r = plan_step(swarm, m, q_hat.col(m), b);
-    swarm.move(m, r, MotionKind::kPlacement);
-    q_hat.col(m) += r;
-  }
+  const double b = detail::decayed_step(options_.step, options_.decay, iteration);
+  detail::estimate_then_move_each(
+      swarm, believed_m_, [&](int m, const Eigen::Vector3d& q_hat_m) { return plan_step(swarm, m, q_hat_m, b); });
   const double f = swarm.channel().objective();
   if (options_.escape && stall_.update(f) && swarm.escape_allowed(f) && try_escape(swarm)) {
     stall_.reset();

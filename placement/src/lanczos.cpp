@@ -119,16 +119,25 @@ DensePlanes::DensePlanes(const Eigen::MatrixXcd& G)
 }
 
 namespace {
-// How many eigenvalues of T are below x (Sylvester's inertia of T - x I, via its LDL^T pivots).
-int eigenvalues_below(const Eigen::VectorXd& alpha, const Eigen::VectorXd& beta, double x, double tiny) {
-  int count = 0;
-  double d = 1.0;
-  for (Eigen::Index i = 0; i < alpha.size(); ++i) {
-    d = alpha(i) - x - (i > 0 ? beta(i - 1) * beta(i - 1) / d : 0.0);
-    if (d == 0.0) d = -tiny;  // x is an eigenvalue of the leading block: count it as crossed
-    if (d < 0.0) ++count;
+// How many eigenvalues of T are below each of x[0 .. kX - 1] (Sylvester's inertia of T - x I,
+// via its LDL^T pivots). The kX recurrences are independent, interleaved so that their
+// divisions overlap; each is the one-shift recurrence, operation for operation.
+template <int kX>
+void eigenvalues_below(const Eigen::VectorXd& alpha, const Eigen::VectorXd& beta, const double (&x)[kX], double tiny,
+                       int (&count)[kX]) {
+  double d[kX];
+  for (int j = 0; j < kX; ++j) {
+    d[j] = 1.0;
+    count[j] = 0;
   }
-  return count;
+  for (Eigen::Index i = 0; i < alpha.size(); ++i) {
+    const double b2 = i > 0 ? beta(i - 1) * beta(i - 1) : 0.0;
+    for (int j = 0; j < kX; ++j) {
+      d[j] = alpha(i) - x[j] - (i > 0 ? b2 / d[j] : 0.0);
+      if (d[j] == 0.0) d[j] = -tiny;  // x is an eigenvalue of the leading block: count it as crossed
+      if (d[j] < 0.0) ++count[j];
+    }
+  }
 }
 }  // namespace
 
@@ -150,9 +159,19 @@ Eigen::VectorXd smallest_tridiagonal_eigenvector(const Eigen::VectorXd& alpha, c
   // Bisection (lo has no eigenvalue below it, hi at least one) to 1e-7 of ||T||: inverse
   // iteration from there gains ~1e-7 ||T|| / gap per solve, so five solves reach rounding for
   // any gap above ~1e-4 ||T||; bisecting to full precision took 4x as long (dependent divisions).
-  for (int step = 0; step < 200 && hi - lo > 1e-7 * scale + tiny; ++step) {
+  // Two halvings a round: the midpoint and both midpoints the next halving may take are counted
+  // together, so lo and hi follow the one-halving-at-a-time sequence bit for bit.
+  const auto more = [&](int step) { return step < 200 && hi - lo > 1e-7 * scale + tiny; };
+  for (int step = 0; more(step); step += 2) {
     const double mid = 0.5 * (lo + hi);
-    (eigenvalues_below(alpha, beta, mid, tiny) >= 1 ? hi : lo) = mid;
+    const double x[3] = {mid, 0.5 * (lo + mid), 0.5 * (mid + hi)};
+    int below[3];
+    eigenvalues_below(alpha, beta, x, tiny, below);
+    const bool lower_half = below[0] >= 1;
+    (lower_half ? hi : lo) = mid;
+    if (!more(step + 1)) break;
+    const int next = lower_half ? 1 : 2;  // 0.5 (lo + hi) of the halved interval
+    (below[next] >= 1 ? hi : lo) = x[next];
   }
   const double shift = 0.5 * (lo + hi);
   if (lambda) *lambda = shift;

@@ -69,6 +69,7 @@ void Swarm::refill_normals() {
 }
 
 Eigen::Vector3d Swarm::estimate_position(int m) {
+  ++position_estimates_;
   if (estimator_) return estimator_(m, q_m_.col(m));
   if (loc_bias_m_.size() > 0) return q_m_.col(m) + loc_bias_m_.col(m);
   return q_m_.col(m) + gaussian(axis_sigma_loc_m_);

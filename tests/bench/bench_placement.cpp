@@ -9,7 +9,10 @@
 // - UavObjective: the leave-one-out view each UAV builds once per turn (O(Nt^2)).
 // - IterationGd / IterationBf / IterationUra: one pass over every UAV under actuation error 0.02 m
 //   (sigma_loc 0.1 m for GD; 0.1 m for the URA, which 0.02 m leaves above ICN 0.95), including
-//   the per-iteration ICN check of run_placement.
+//   the per-iteration ICN check of run_placement; floor_ms is the kernels' flops at this core's
+//   peak, pct_peak the iteration's share of it:
+//   bench_placement --benchmark_filter='Iteration(Gd|Bf)/16|CapUavTurn/16'   (256 UAVs)
+// - CapUavTurn: one UAV's turn of the capacity planner (Eigen's products and eigen-solvers).
 // - Icn: the exact eigen-solve, and icn_below's cheap proof that ICN < 0.95.
 // - UavsByRedundancy: the escapes' order of the UAVs (smallest eigenvector of G).
 
@@ -22,10 +25,13 @@
 #include <random>
 
 #include "losmimo/placement/bf.h"
+#include "losmimo/placement/capacity.h"
 #include "losmimo/placement/gd.h"
+#include "losmimo/placement/isa.h"
 #include "losmimo/placement/run.h"
 #include "losmimo/placement/stall.h"
 #include "losmimo/placement/ura.h"
+#include "peak_flops.h"
 #include "support/scenarios.h"
 
 namespace losmimo::placement {
@@ -130,15 +136,51 @@ void BM_UavsByRedundancy(benchmark::State& state) {
 }
 BENCHMARK(BM_UavsByRedundancy)->ArgNames({"side", "solver"})->Args({4, 0})->Args({4, 1})->Args({8, 0})->Args({8, 1});
 
+// The arithmetic floor of an iteration: its kernels' flops (counted as in bench_kernels.cpp) at
+// the peak of the instruction set the kernels run on (BM_PeakFlops' FMA variant; SSE2 multiply +
+// add), measured once per process.
+double active_peak_flops_per_s() {
+  static const double peak = [] {
+    switch (active_isa()) {
+      case Isa::kAvx512:
+        return bench::measure_peak_flops_per_s(bench::PeakVariant::kAvx512Fma);
+      case Isa::kAvx2:
+        return bench::measure_peak_flops_per_s(bench::PeakVariant::kAvx2Fma);
+      case Isa::kSse2:
+        break;
+    }
+    return bench::measure_peak_flops_per_s(bench::PeakVariant::kSse2);
+  }();
+  return peak;
+}
+
+// Counters of a benchmark whose unit of work has `flops` flops: floor_ms (flops at the peak) and
+// pct_peak (the flops per second of CPU time against the peak).
+void set_floor_counters(benchmark::State& state, double flops) {
+  const double peak = active_peak_flops_per_s();
+  state.counters["floor_ms"] = 1e3 * flops / peak;
+  state.counters["pct_peak"] =
+      benchmark::Counter(100.0 * flops * static_cast<double>(state.iterations()) / peak, benchmark::Counter::kIsRate);
+}
+
+// Flops of one swarm iteration's kernels, n = Nt antennas, nr UAVs (bench_kernels.cpp's counts;
+// escapes, the ICN check and the draws not counted). GD: gradient (8 n^2 + 121 n), the line
+// search's first point (objective_at, 8 n^2 + 91 n), the kept move's row (55 n) and Gram update
+// (14 n^2). BF: rows_lanes (440 n), objectives_lanes (38 n^2 + 96 n), the kept move's row and
+// Gram update.
+double gd_iteration_flops(double n, double nr) { return nr * (30 * n * n + 267 * n); }
+double bf_iteration_flops(double n, double nr) { return nr * (52 * n * n + 591 * n); }
+
 // One planner iteration plus run_placement's ICN check, on a swarm kept away from the target
-// (it starts random and the errors keep it moving).
-template <typename MakePlanner>
-void iterate(benchmark::State& state, const ErrorModel& errors, MakePlanner make_planner) {
+// (it starts random and the errors keep it moving); Nr = Nt.
+template <typename MakePlanner, typename Flops>
+void iterate(benchmark::State& state, const ErrorModel& errors, MakePlanner make_planner, Flops iteration_flops) {
   const Scenario s = scenario_with_side(static_cast<int>(state.range(0)));
   const ChannelModel model(s);
   Swarm swarm(model, start_positions(s), errors, kSeed);
   auto planner = make_planner(s);
   planner.start(swarm);
+  active_peak_flops_per_s();  // outside the timed loop
   int iteration = 0;
   IcnWarmStart warm_start;
   for (auto _ : state) {
@@ -149,22 +191,51 @@ void iterate(benchmark::State& state, const ErrorModel& errors, MakePlanner make
     }
   }
   state.counters["Nt"] = s.num_bs_antennas();
+  set_floor_counters(state, iteration_flops(s.num_bs_antennas(), s.num_uavs));
 }
 
 void BM_IterationGd(benchmark::State& state) {
-  iterate(state, ErrorModel{0.1, 0.02}, [](const Scenario& s) { return GradientDescentPlanner(s, GdOptions{}); });
+  iterate(
+      state, ErrorModel{0.1, 0.02}, [](const Scenario& s) { return GradientDescentPlanner(s, GdOptions{}); },
+      gd_iteration_flops);
 }
-BENCHMARK(BM_IterationGd)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_IterationGd)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 
 void BM_IterationBf(benchmark::State& state) {
-  iterate(state, ErrorModel{0.0, 0.02}, [](const Scenario& s) { return BruteForcePlanner(s, BfOptions{}); });
+  iterate(
+      state, ErrorModel{0.0, 0.02}, [](const Scenario& s) { return BruteForcePlanner(s, BfOptions{}); },
+      bf_iteration_flops);
 }
-BENCHMARK(BM_IterationBf)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_IterationBf)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 
 void BM_IterationUra(benchmark::State& state) {
-  iterate(state, ErrorModel{0.0, 0.1}, [](const Scenario& s) { return UraPlanner(s, UraVariant::kRigid); });
+  iterate(
+      state, ErrorModel{0.0, 0.1}, [](const Scenario& s) { return UraPlanner(s, UraVariant::kRigid); },
+      [](double n, double nr) { return 55 * n * nr + 8 * nr * n * (n + 1) / 2 + 8 * n * n * n / 6; });
 }
 BENCHMARK(BM_IterationUra)->Arg(4)->Arg(8)->Unit(benchmark::kMicrosecond);
+
+// One UAV's turn of the capacity planner (its gradient, then the backtracking's first check):
+// an iteration is Nr of these plus one capacity. Its arithmetic is Eigen's, per turn: K = H H^H
+// twice (8 nr^2 n each, the full product), a Hermitian eigen-decomposition with vectors
+// (36 nr^3: 9 nr^3 real flops, times 4 for complex) and one without (16 nr^3 / 3).
+void BM_CapUavTurn(benchmark::State& state) {
+  const Scenario s = scenario_with_side(static_cast<int>(state.range(0)));
+  const ChannelModel model(s);
+  Swarm swarm(model, start_positions(s), ErrorModel{}, kSeed);
+  CapacityPlanner planner(s, CapOptions{});
+  planner.start(swarm);
+  active_peak_flops_per_s();
+  int m = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(planner.plan_step(swarm, m, swarm.true_positions_m().col(m), 1.0));
+    m = (m + 1) % swarm.num_uavs();
+  }
+  const double n = s.num_bs_antennas(), nr = s.num_uavs;
+  state.counters["Nt"] = n;
+  set_floor_counters(state, 2 * 8 * nr * nr * n + 36 * nr * nr * nr + 16 * nr * nr * nr / 3);
+}
+BENCHMARK(BM_CapUavTurn)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 
 // A 256-UAV swarm (BS 16 x 16) from a random start in the 50 m cube to ICN 0.95, without
 // errors: wall time, iterations and the mean travel per UAV as counters.

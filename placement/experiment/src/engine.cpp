@@ -94,6 +94,7 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
   std::mutex mutex;
   std::condition_variable point_done;
   std::exception_ptr failure;
+  SeedFreeRuns seed_free;  // the runs the built-in sweeps' points share
 
   const auto worker = [&] {
     for (int i = next++; i < total_jobs; i = next++) {
@@ -101,7 +102,7 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
       const PointTask& task = points[job / trials];
       try {
         slots[job] = task.extension ? task.extension->run(s, task.point, job % trials)
-                                    : run_trial(s, task.sweep->name, task.point, job % trials);
+                                    : run_trial(s, task.sweep->name, task.point, job % trials, &seed_free);
         for (TrialRecord& r : slots[job]) {
           r.extra = place_extension_columns(r, task.extension, extension_names);
           r.extension = {};

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <stdexcept>
+#include <utility>
 
 #include "losmimo/experiment/capacity_claims.h"
 #include "losmimo/placement/capacity.h"
@@ -96,9 +98,12 @@ placement::RunOptions run_options_of(const placement::PlacementSettings& p, Algo
   return run;
 }
 
-placement::RunResult run_algorithm(const ExperimentSettings& s, const placement::PlacementSettings& p, Algorithm a,
-                                   int trial, const Eigen::Matrix3Xd& start, std::uint64_t seed,
-                                   placement::RunOptions run) {
+namespace {
+// run_algorithm; `seed_free` (optional) is set to whether the run took nothing from its seed
+// (SeedFreeRuns): no normal draw, and no position estimate under a localization error.
+placement::RunResult run_algorithm_on_swarm(const ExperimentSettings& s, const placement::PlacementSettings& p,
+                                            Algorithm a, int trial, const Eigen::Matrix3Xd& start, std::uint64_t seed,
+                                            placement::RunOptions run, bool* seed_free) {
   run = run_options_of(p, a, run);
   const placement::ChannelModel model(p.scenario);
   placement::Swarm swarm(model, start, p.errors, seed);
@@ -109,7 +114,36 @@ placement::RunResult run_algorithm(const ExperimentSettings& s, const placement:
   }
   std::unique_ptr<placement::Planner> planner = make_planner(p, a);
   StayPlanner stay;
-  return placement::run_placement(planner ? *planner : stay, swarm, run);
+  placement::RunResult result = placement::run_placement(planner ? *planner : stay, swarm, run);
+  if (seed_free) {
+    *seed_free = !p.channel.active() && swarm.normal_blocks_drawn() == 0 &&
+                 (p.errors.sigma_loc_m == 0.0 || swarm.position_estimates() == 0);
+  }
+  return result;
+}
+}  // namespace
+
+placement::RunResult run_algorithm(const ExperimentSettings& s, const placement::PlacementSettings& p, Algorithm a,
+                                   int trial, const Eigen::Matrix3Xd& start, std::uint64_t seed,
+                                   placement::RunOptions run) {
+  return run_algorithm_on_swarm(s, p, a, trial, start, seed, run, nullptr);
+}
+
+bool SeedFreeRuns::applies(const placement::PlacementSettings& p, Algorithm a) {
+  return !p.channel.active() && p.errors.sigma_act_m == 0.0 &&
+         (p.errors.sigma_loc_m == 0.0 || a == Algorithm::kBf || a == Algorithm::kRandom);
+}
+
+std::optional<TrialRecord> SeedFreeRuns::find(Algorithm a, int trial) const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = records_.find({static_cast<int>(a), trial});
+  if (it == records_.end()) return std::nullopt;
+  return it->second;
+}
+
+void SeedFreeRuns::put(Algorithm a, int trial, const TrialRecord& record) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  records_.emplace(std::make_pair(static_cast<int>(a), trial), record);
 }
 
 std::uint64_t trial_start_seed(const ExperimentSettings& s, int trial) {
@@ -194,7 +228,8 @@ TrialRecord make_record(const ExperimentSettings& s, const placement::PlacementS
   return rec;
 }
 
-std::vector<TrialRecord> run_trial(const ExperimentSettings& s, const std::string& sweep, int point, int trial) {
+std::vector<TrialRecord> run_trial(const ExperimentSettings& s, const std::string& sweep, int point, int trial,
+                                   SeedFreeRuns* seed_free) {
   placement::PlacementSettings p = s.placement;
   const SweepPoints* points = s.sweep(sweep);
   if (!points) throw std::invalid_argument("run_trial: the settings have no '" + sweep + "' sweep");
@@ -212,8 +247,22 @@ std::vector<TrialRecord> run_trial(const ExperimentSettings& s, const std::strin
   run.full_icn_trace = false;  // only milestones and the final positions are recorded
   std::vector<TrialRecord> records;
   for (const Algorithm a : s.algorithms) {
-    records.push_back(
-        make_record(s, p, sweep, point, trial, to_string(a), run_algorithm(s, p, a, trial, start, seed, run)));
+    const bool reusable = seed_free && SeedFreeRuns::applies(p, a);
+    if (std::optional<TrialRecord> done = reusable ? seed_free->find(a, trial) : std::nullopt) {
+      done->sweep = sweep;  // make_record's point-dependent fields
+      done->value = points->values.at(point);
+      done->seed = seed;
+      records.push_back(std::move(*done));
+      continue;
+    }
+    bool drew_nothing = false;
+    const placement::RunResult r = run_algorithm_on_swarm(s, p, a, trial, start, seed, run, &drew_nothing);
+    records.push_back(make_record(s, p, sweep, point, trial, to_string(a), r));
+    if (reusable && !drew_nothing) {
+      throw std::logic_error("run_trial: " + to_string(a) +
+                             " drew from its seed in a run SeedFreeRuns calls seed-free");
+    }
+    if (reusable) seed_free->put(a, trial, records.back());
   }
   return records;
 }

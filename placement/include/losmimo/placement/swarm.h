@@ -86,6 +86,11 @@ class Swarm {
 
   // Where UAV m believes it is (see the error model above).
   Eigen::Vector3d estimate_position(int m);
+  // What the run has taken from its seed so far: blocks of the normal stream drawn (actuation
+  // and fresh localization errors) and calls of estimate_position. A run with none of either
+  // comes out the same for any seed and any localization error.
+  std::uint64_t normal_blocks_drawn() const { return normal_next_block_; }
+  long long position_estimates() const { return position_estimates_; }
   // Commands UAV m to move by r_m; returns the true displacement. With update_channel false
   // the channel keeps UAV m's old row until sync_channel(m): BF's probe flights measure the
   // row at the probe point through UavObjective, and the others' Gram matrix stays fixed.
@@ -155,6 +160,7 @@ class Swarm {
   static constexpr int kNormalBlocks = 12;
   std::uint64_t normal_key_;
   std::uint64_t normal_next_block_ = 0;
+  long long position_estimates_ = 0;
   int normal_used_ = kNormalBlocks * kernels::kNormalsPerBlock;
   std::array<double, kNormalBlocks * kernels::kNormalsPerBlock> normal_buffer_{};
   Eigen::VectorXd placement_dist_m_;

@@ -23,8 +23,12 @@
 // [experiment] milestone_columns (iterations_to_icn050, iterations_to_icn095).
 
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "losmimo/experiment/metric_values.h"
@@ -105,9 +109,29 @@ TrialRecord make_record(const ExperimentSettings& settings, const placement::Pla
                         const std::string& sweep, int point, int trial, const std::string& algorithm,
                         const placement::RunResult& run, placement::FadedLinkMetrics* metrics = nullptr);
 
+// The runs of one experiment that take nothing from their seed, one record per (algorithm,
+// trial), shared by the sweep points that would repeat them; safe to use from several threads.
+// A run is seed-free when no channel conditions are active, sigma_act_m is 0 and either
+// sigma_loc_m is 0 or the algorithm never estimates a position (bf, random): then it draws no
+// number, and its record differs between those points only in sweep, value and seed. Whichever
+// point computes it first stores it; one computed twice (two threads at once) is the same.
+class SeedFreeRuns {
+ public:
+  // Whether algorithm a under placement settings p is seed-free (above).
+  static bool applies(const placement::PlacementSettings& p, Algorithm a);
+  std::optional<TrialRecord> find(Algorithm a, int trial) const;
+  void put(Algorithm a, int trial, const TrialRecord& record);
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<std::pair<int, int>, TrialRecord> records_;
+};
+
 // The built-in sweeps (sigma_loc_m, sigma_act_m): the settings' algorithms on trial `trial`
-// at sweep point `point`.
-std::vector<TrialRecord> run_trial(const ExperimentSettings& settings, const std::string& sweep, int point, int trial);
+// at sweep point `point`. With `seed_free` (one per experiment), seed-free runs are computed once
+// and their records reused with this point's sweep, value and seed: the same records.
+std::vector<TrialRecord> run_trial(const ExperimentSettings& settings, const std::string& sweep, int point, int trial,
+                                   SeedFreeRuns* seed_free = nullptr);
 
 // A Fig 1 run: `algorithm` without errors from trial `trial`'s start, SINR traced (and with
 // record_path, the positions after every iteration).
