@@ -8,6 +8,7 @@
 # Both add the target to `losmimo_dist` (everything installed: what scripts/setup builds by default,
 # without the tests and benchmarks).
 include(GNUInstallDirs)
+include(LosmimoBuildSpeed)
 
 if(NOT TARGET losmimo_dist)
   add_custom_target(losmimo_dist)
@@ -34,6 +35,7 @@ function(losmimo_add_library name)
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   target_link_libraries(losmimo_${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
   losmimo_target_warnings(losmimo_${name})
+  losmimo_precompile_headers(losmimo_${name})
 
   install(TARGETS losmimo_${name} EXPORT losmimoTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
@@ -57,6 +59,7 @@ function(losmimo_add_test name)
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest_main GTest::gmock)
   target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests)
   losmimo_target_warnings(${name})
+  losmimo_precompile_headers(${name})
   if(LOSMIMO_SANITIZE MATCHES "undefined" AND NOT LOSMIMO_UBSAN_TEST_FILES)
     target_compile_options(${name} PRIVATE -fno-sanitize=undefined)
   endif()
