@@ -35,7 +35,6 @@ function(losmimo_add_library name)
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   target_link_libraries(losmimo_${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
   losmimo_target_warnings(losmimo_${name})
-  losmimo_precompile_headers(losmimo_${name})
 
   install(TARGETS losmimo_${name} EXPORT losmimoTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
