@@ -8,6 +8,7 @@
 # Both add the target to `losmimo_dist` (everything installed: what scripts/setup builds by default,
 # without the tests and benchmarks).
 include(GNUInstallDirs)
+include(LosmimoBuildSpeed)
 
 if(NOT TARGET losmimo_dist)
   add_custom_target(losmimo_dist)
@@ -57,6 +58,7 @@ function(losmimo_add_test name)
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest_main GTest::gmock)
   target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests)
   losmimo_target_warnings(${name})
+  losmimo_precompile_headers(${name})
   if(LOSMIMO_SANITIZE MATCHES "undefined" AND NOT LOSMIMO_UBSAN_TEST_FILES)
     target_compile_options(${name} PRIVATE -fno-sanitize=undefined)
   endif()
