@@ -131,8 +131,7 @@ int run_bearing_replay_app(const ReplayAppOptions& options, std::ostream& out, s
     if (options.out_given && options.out_dir.empty())
       throw common::InputError("--out '': an output folder is required");
     check_scene_option(options.scene, options.out_dir);
-    if (!options.out_dir.empty())
-      StagedDir::check(options.out_dir, options.replace, StaleStaging::kDiscard);
+    if (!options.out_dir.empty()) StagedDir::check(options.out_dir, options.replace, StaleStaging::kDiscard);
     const std::string map_file = !options.landmarks_path.empty() ? options.landmarks_path : cfg->landmarks_file;
     if (map_file.empty()) {
       throw common::InputError(options.mrpt_config +

@@ -26,7 +26,8 @@ scene::SceneContent range_scene(const mrpt_logs::RangeReplayResult& result, cons
 
 // A bearing-range replay (losmimo-replay --landmarks / a kf-slam --mrpt-config): the map's landmarks
 // as beacons, the robot's true path, filter beliefs with covariances and the smoother's path.
-scene::SceneContent bearing_scene(const mrpt_logs::BearingReplayResult& result, const localization::BeaconMap& landmarks);
+scene::SceneContent bearing_scene(const mrpt_logs::BearingReplayResult& result,
+                                  const localization::BeaconMap& landmarks);
 
 // Where losmimo-record --scene writes: "<log path without a .rawlog extension>.3Dscene".
 std::string scene_path_beside(const std::string& log_path);

@@ -68,8 +68,7 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
       staged_beacons.emplace(StagedFile::create(beacons_ini_path(options.out_path), options.replace));
       ro_exports.emplace(RoExportOutputs::create(options.out_path, options.ro_export_uavs,
                                                  config.placement.scenario.num_uavs, options.replace));
-      if (options.scene)
-        staged_scene.emplace(StagedFile::create(scene_path_beside(options.out_path), options.replace));
+      if (options.scene) staged_scene.emplace(StagedFile::create(scene_path_beside(options.out_path), options.replace));
     } catch (...) {
       std::error_code ignored;  // the staged files were just created, empty: no litter from a refused run
       std::filesystem::remove(staged->path(), ignored);
