@@ -38,6 +38,27 @@ void write_record_scene(const std::string& log_path, StagedFile& staged_scene) {
     throw std::runtime_error(staged_scene.path() + ": cannot write");
   staged_scene.publish();
 }
+
+// The mission of --config and --set, every override acting or refused (kExitBadInput).
+MissionConfig load_record_config(const RecordAppOptions& options) {
+  MissionConfig config;
+  common::IniConfig ini =
+      options.config_path.empty() ? common::IniConfig() : common::IniConfig::from_file(options.config_path);
+  for (const std::string& o : options.overrides) ini.set_override(o);
+  // An experiment config (e.g. datasets/configs/paper.ini) is a valid mission source too; its
+  // [experiment] keys are not used here, but checked like everything else.
+  const experiment::ExperimentExtensions extensions = coevaluation::experiment_extensions();
+  config = load_mission_config(ini, experiment::experiment_config_keys(extensions));
+  std::set<std::string> experiment_sections;
+  for (const auto& [section, keys] : experiment::experiment_config_keys(extensions))
+    experiment_sections.insert(section);
+  if (ini.has_section("experiment")) experiment::load_experiment_settings(ini.subset(experiment_sections), extensions);
+  KeyUser record{"losmimo-record", {}};
+  if (config.closed_loop.filter_kind == localization::FilterKind::kEkf) record.conditions.push_back(kEkfFilter);
+  if (!config.closed_loop.refine) record.conditions.push_back(kNoRefinement);
+  refuse_unused_overrides(ini, options.overrides, {record});
+  return config;
+}
 }  // namespace
 
 int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostream& err) {
@@ -45,22 +66,7 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
   std::optional<StagedFile> staged, staged_beacons, staged_scene;
   std::optional<RoExportOutputs> ro_exports;
   try {
-    common::IniConfig ini =
-        options.config_path.empty() ? common::IniConfig() : common::IniConfig::from_file(options.config_path);
-    for (const std::string& o : options.overrides) ini.set_override(o);
-    // An experiment config (e.g. datasets/configs/paper.ini) is a valid mission source too; its
-    // [experiment] keys are not used here, but checked like everything else.
-    const experiment::ExperimentExtensions extensions = coevaluation::experiment_extensions();
-    config = load_mission_config(ini, experiment::experiment_config_keys(extensions));
-    std::set<std::string> experiment_sections;
-    for (const auto& [section, keys] : experiment::experiment_config_keys(extensions))
-      experiment_sections.insert(section);
-    if (ini.has_section("experiment"))
-      experiment::load_experiment_settings(ini.subset(experiment_sections), extensions);
-    KeyUser record{"losmimo-record", {}};
-    if (config.closed_loop.filter_kind == localization::FilterKind::kEkf) record.conditions.push_back(kEkfFilter);
-    if (!config.closed_loop.refine) record.conditions.push_back(kNoRefinement);
-    refuse_unused_overrides(ini, options.overrides, {record});
+    config = load_record_config(options);
     if (options.out_path.empty()) throw common::InputError("--out: an output file is required");
     kernel_isa_name();  // a bad LOSMIMO_ISA stops here: kExitBadInput
     staged.emplace(StagedFile::create(options.out_path, options.replace));
@@ -101,6 +107,8 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
       ro_exports->write(options.out_path, out);
     } catch (const std::exception& e) {
       ro_exports->discard();
+      std::error_code ignored;  // the scene is written after the export: nothing of it yet
+      if (staged_scene) std::filesystem::remove(staged_scene->path(), ignored);
       print_error(err, kApp,
                   std::string("--ro-export: ") + e.what() + " (the log is complete: " + options.out_path + ")");
       return kExitFailure;
