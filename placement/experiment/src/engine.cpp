@@ -64,6 +64,42 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
   return run_experiment(s, extensions, threads, ExperimentSlice{}, progress, sink);
 }
 
+namespace {
+// The slice's jobs (point * trials + trial), counted per point in `remaining`: points already
+// finished are skipped, and shard i of N takes the jobs j with j % N == i.
+std::vector<int> slice_jobs(std::size_t num_points, int trials, const ExperimentSlice& slice,
+                            std::vector<int>& remaining) {
+  std::vector<int> jobs;
+  for (std::size_t p = 0; p < num_points; ++p) {
+    if (slice.finished_points.count(static_cast<int>(p))) continue;
+    for (int t = 0; t < trials; ++t) {
+      const long long j = static_cast<long long>(p) * trials + t;
+      if (j % slice.shard_count != slice.shard_index) continue;
+      jobs.push_back(static_cast<int>(j));
+      ++remaining[p];
+    }
+  }
+  return jobs;
+}
+
+// A record's extra columns in the metric table's order: the extension's, then the milestone and
+// capacity-claim columns where the settings ask for them.
+void fill_extra_columns(const ExperimentSettings& s, const ExperimentExtension* extension,
+                        const std::vector<std::string>& extension_names, TrialRecord& r) {
+  r.extra = place_extension_columns(r, extension, extension_names);
+  r.extension = {};
+  if (s.milestone_columns) {  // milestone_metrics()' order
+    const auto iteration = [](int i) { return i >= 0 ? static_cast<double>(i) : std::nan(""); };
+    r.extra.push_back(iteration(r.icn050_iteration));
+    r.extra.push_back(iteration(r.icn095_iteration));
+  }
+  if (s.capacity_columns) {
+    for (const double v : capacity_claim_columns(r)) r.extra.push_back(v);
+    r.capacity_claims = {};
+  }
+}
+}  // namespace
+
 ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentExtensions& extensions, int threads,
                                  const ExperimentSlice& slice, const ProgressFn& progress, const PointSink& sink) {
   if (slice.shard_count < 1 || slice.shard_index < 0 || slice.shard_index >= slice.shard_count) {
@@ -77,17 +113,8 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
 
   // This slice's jobs; one slot per (point, trial): results land where their index says,
   // whatever thread ran them.
-  std::vector<int> jobs;
   std::vector<int> remaining(points.size(), 0);
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    if (slice.finished_points.count(static_cast<int>(p))) continue;
-    for (int t = 0; t < trials; ++t) {
-      const long long j = static_cast<long long>(p) * trials + t;
-      if (j % slice.shard_count != slice.shard_index) continue;
-      jobs.push_back(static_cast<int>(j));
-      ++remaining[p];
-    }
-  }
+  const std::vector<int> jobs = slice_jobs(points.size(), trials, slice, remaining);
   const int total_jobs = static_cast<int>(jobs.size());
   std::vector<std::vector<TrialRecord>> slots(points.size() * static_cast<std::size_t>(trials));
   std::atomic<int> next{0};
@@ -103,19 +130,7 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
       try {
         slots[job] = task.extension ? task.extension->run(s, task.point, job % trials)
                                     : run_trial(s, task.sweep->name, task.point, job % trials, &seed_free);
-        for (TrialRecord& r : slots[job]) {
-          r.extra = place_extension_columns(r, task.extension, extension_names);
-          r.extension = {};
-          if (s.milestone_columns) {  // milestone_metrics()' order
-            const auto iteration = [](int i) { return i >= 0 ? static_cast<double>(i) : std::nan(""); };
-            r.extra.push_back(iteration(r.icn050_iteration));
-            r.extra.push_back(iteration(r.icn095_iteration));
-          }
-          if (s.capacity_columns) {
-            for (const double v : capacity_claim_columns(r)) r.extra.push_back(v);
-            r.capacity_claims = {};
-          }
-        }
+        for (TrialRecord& r : slots[job]) fill_extra_columns(s, task.extension, extension_names, r);
       } catch (...) {
         const std::lock_guard<std::mutex> lock(mutex);
         if (!failure) failure = std::current_exception();
