@@ -1,6 +1,7 @@
 #include "losmimo/localization/pose/range_fix.h"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -33,6 +34,27 @@ double chi2_quantile(double dof, double z) {
   return dof * std::pow(1.0 - c + z * std::sqrt(c), 3);
 }
 
+namespace {
+// Adds the ranges' information J^T J / s^2 at c_m to `info`, and, where given, J (r - h) / s^2 to
+// `gradient` and every reading's squared whitened residual to `chi2` (a reading within
+// kMinRangeGeometry_m of its beacon has no direction: residual only).
+void add_ranges(const std::vector<RangeReading>& readings, const Eigen::Vector3d& c_m, Eigen::Matrix3d& info,
+                Eigen::Vector3d* gradient, double* chi2) {
+  for (const RangeReading& r : readings) {
+    const Eigen::Vector3d d_m = c_m - r.beacon_m;
+    const double h_m = d_m.norm();
+    if (chi2) {
+      const double y = (r.range_m - h_m) / r.sigma_m;
+      *chi2 += y * y;
+    }
+    if (h_m < kMinRangeGeometry_m) continue;
+    const Eigen::Vector3d J = d_m / h_m;
+    info.noalias() += J * J.transpose() / (r.sigma_m * r.sigma_m);
+    if (gradient) *gradient += J * (r.range_m - h_m) / (r.sigma_m * r.sigma_m);
+  }
+}
+}  // namespace
+
 RangeFixResult range_fix(const std::vector<RangeReading>& readings, const Eigen::Vector3d& c0_m,
                          const Eigen::Matrix3d& P0_m2) {
   RangeFixResult out;
@@ -40,11 +62,12 @@ RangeFixResult range_fix(const std::vector<RangeReading>& readings, const Eigen:
     out.problem = "no usable range";
     return out;
   }
-  for (const RangeReading& r : readings) {
-    if (!r.beacon_m.allFinite() || !std::isfinite(r.range_m) || !std::isfinite(r.sigma_m) || !(r.sigma_m > 0.0)) {
-      out.problem = "a reading is not finite";
-      return out;
-    }
+  const auto bad = [](const RangeReading& r) {
+    return !r.beacon_m.allFinite() || !std::isfinite(r.range_m) || !std::isfinite(r.sigma_m) || !(r.sigma_m > 0.0);
+  };
+  if (std::any_of(readings.begin(), readings.end(), bad)) {
+    out.problem = "a reading is not finite";
+    return out;
   }
   const Eigen::LLT<Eigen::Matrix3d> prior_llt(P0_m2);
   if (!c0_m.allFinite() || !P0_m2.allFinite() || prior_llt.info() != Eigen::Success) {
@@ -61,14 +84,7 @@ RangeFixResult range_fix(const std::vector<RangeReading>& readings, const Eigen:
     // Normal equations of the linearised cost: (P0^-1 + sum J^T J / s^2) dc = gradient.
     info = prior_info;
     Eigen::Vector3d g = prior_info * (c0_m - c_m);
-    for (const RangeReading& r : readings) {
-      const Eigen::Vector3d d_m = c_m - r.beacon_m;
-      const double h_m = d_m.norm();
-      if (h_m < kMinRangeGeometry_m) continue;  // direction undefined at the beacon
-      const Eigen::Vector3d J = d_m / h_m;
-      info.noalias() += J * J.transpose() / (r.sigma_m * r.sigma_m);
-      g += J * (r.range_m - h_m) / (r.sigma_m * r.sigma_m);
-    }
+    add_ranges(readings, c_m, info, &g, nullptr);
     const Eigen::LLT<Eigen::Matrix3d> llt(info);
     if (llt.info() != Eigen::Success) break;
     Eigen::Vector3d step_m = llt.solve(g);
@@ -88,15 +104,7 @@ RangeFixResult range_fix(const std::vector<RangeReading>& readings, const Eigen:
   // Covariance at the solution (the information of the last linearisation point, refreshed).
   info = prior_info;
   double chi2 = 0.0;
-  for (const RangeReading& r : readings) {
-    const Eigen::Vector3d d_m = c_m - r.beacon_m;
-    const double h_m = d_m.norm();
-    const double y = (r.range_m - h_m) / r.sigma_m;
-    chi2 += y * y;
-    if (h_m < kMinRangeGeometry_m) continue;
-    const Eigen::Vector3d J = d_m / h_m;
-    info.noalias() += J * J.transpose() / (r.sigma_m * r.sigma_m);
-  }
+  add_ranges(readings, c_m, info, nullptr, &chi2);
   const Eigen::LLT<Eigen::Matrix3d> llt(info);
   if (!converged || llt.info() != Eigen::Success) {
     out.problem = "multilateration did not converge";
