@@ -68,6 +68,14 @@ void check_rmse(const Demo& d) {
   EXPECT_LT(ekf.rmse_m, d.max_rmse_m) << d.name;
   EXPECT_LT(pf.rmse_m, d.max_rmse_m) << d.name;
   EXPECT_LT(ekf.refined_rmse_m, ekf.rmse_m) << d.name;
+  // The smoother's horizontal RMSE, recomputed from the rows' smoothed poses and the truth.
+  double e2_xy = 0.0;
+  for (const BearingTrackRow& row : ekf.track) {
+    const double dx = (*row.refined)(0) - row.truth(0), dy = (*row.refined)(1) - row.truth(1);
+    e2_xy += dx * dx + dy * dy;
+  }
+  EXPECT_NEAR(ekf.refined_rmse_xy_m, std::sqrt(e2_xy / static_cast<double>(ekf.track.size())), 1e-12) << d.name;
+  EXPECT_LE(ekf.refined_rmse_xy_m, ekf.refined_rmse_m) << d.name;
   EXPECT_LT(ekf.rmse_m, ekf.dr_rmse_m / 20.0) << d.name << ": dead reckoning " << ekf.dr_rmse_m;
   EXPECT_TRUE(ekf.smoother.converged) << d.name;
   EXPECT_EQ(ekf.counters.gated, 0) << d.name;

@@ -82,6 +82,7 @@ std::vector<std::pair<std::string, std::string>> bearing_summary_rows(const Bear
   if (r.refined) {
     rows.insert(rows.end(), {{"refinement", "batch"},
                              {"refined_rmse_m", format_csv(r.refined_rmse_m)},
+                             {"refined_rmse_xy_m", format_csv(r.refined_rmse_xy_m)},
                              {"refined_readings_used", i(r.smoother.readings_used)},
                              {"refined_iterations", std::to_string(r.smoother.iterations)},
                              {"refined_converged", r.smoother.converged ? "true" : "false"},

@@ -110,16 +110,18 @@ void refine(const LandmarkFilterConfig& config, const LandmarkBelief& start,
   out.smoother = fusion::smooth_bearing_track(config, start, frames);
   out.refine_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.refined = true;
-  double e2 = 0.0;
+  double e2 = 0.0, e2_xy = 0.0;
   for (std::size_t k = 0; k < out.track.size(); ++k) {
     BearingTrackRow& row = out.track[k];
     row.refined = out.smoother.track[k];
     if (!row.has_truth) continue;
     row.refined_error_m = (row.refined->head<3>() - row.truth.head<3>()).norm();
     e2 += row.refined_error_m * row.refined_error_m;
+    e2_xy += (row.refined->head<2>() - row.truth.head<2>()).squaredNorm();
   }
   out.smoother.track.clear();  // kept in the rows
   out.refined_rmse_m = rms(e2, out.truth_frames);
+  out.refined_rmse_xy_m = rms(e2_xy, out.truth_frames);
 }
 
 }  // namespace

@@ -75,9 +75,9 @@ struct BearingReplayResult {
   std::int64_t truth_frames = 0;
   double rmse_m = 0.0, rmse_xy_m = 0.0, yaw_rmse_rad = 0.0, dr_rmse_m = 0.0, mean_nis = 0.0;  // nan without truth
   bool refined = false;
-  fusion::BearingSmootherResult smoother;  // its track is in the rows' `refined`
-  double refined_rmse_m = 0.0;
-  double refine_wall_s = 0.0;  // process-dependent: not in the summary rows
+  fusion::BearingSmootherResult smoother;                // its track is in the rows' `refined`
+  double refined_rmse_m = 0.0, refined_rmse_xy_m = 0.0;  // 3-D and horizontal position
+  double refine_wall_s = 0.0;                            // process-dependent: not in the summary rows
 };
 
 BearingReplayResult replay_bearings(const BearingLog& log, const localization::BeaconMap& landmarks,
