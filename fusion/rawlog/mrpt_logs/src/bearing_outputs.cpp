@@ -9,6 +9,7 @@
 #include "losmimo/common/gnuplot.h"
 #include "losmimo/mrpt_logs/bearing_replay.h"
 #include "losmimo/mrpt_logs/range_log.h"
+#include "track_figure_data.h"
 
 namespace losmimo::mrpt_logs {
 
@@ -103,25 +104,8 @@ std::vector<std::pair<std::string, std::string>> bearing_summary_rows(const Bear
 std::vector<std::string> write_bearing_plot(const BearingReplayResult& result, const localization::BeaconMap& landmarks,
                                             const std::string& dir) {
   const std::filesystem::path d(dir);
-  {
-    // 2-sigma ellipses of the (x, y) block (gnuplot's "with ellipses": full axes, angle in degrees).
-    std::ofstream f(d / "ellipses.dat");
-    const std::size_t every = std::max<std::size_t>(1, result.track.size() / 20);
-    for (std::size_t k = 0; k < result.track.size(); k += every) {
-      const auto& b = result.track[k].belief;
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(b.cov.topLeftCorner<2, 2>());
-      const Eigen::Vector2d l = es.eigenvalues().cwiseMax(0.0);
-      const Eigen::Vector2d major = es.eigenvectors().col(1);
-      f << b.mean(0) << "," << b.mean(1) << "," << 4.0 * std::sqrt(l(1)) << "," << 4.0 * std::sqrt(l(0)) << ","
-        << std::atan2(major(1), major(0)) * 180.0 / 3.14159265358979323846 << "\n";
-    }
-    if (!f) throw std::runtime_error((d / "ellipses.dat").string() + ": write failed");
-  }
-  {
-    std::ofstream f(d / "landmarks.dat");
-    for (const auto& [id, p] : landmarks.beacons()) f << id << "," << p.x() << "," << p.y() << "," << p.z() << "\n";
-    if (!f) throw std::runtime_error((d / "landmarks.dat").string() + ": write failed");
-  }
+  write_ellipses_dat(result.track, d / "ellipses.dat");
+  write_map_dat(landmarks, d / "landmarks.dat");
   {
     // Columns of track.csv: x 3, y 4, dr_x 18, dr_y 19, gt_x 24, gt_y 25, refined_x 34, refined_y 35.
     std::ofstream f(d / "track.gp");

@@ -1,38 +1,18 @@
 // track.png of a range-only replay (range_replay.h).
-#include <Eigen/Eigenvalues>
-#include <algorithm>
-#include <cmath>
 #include <filesystem>
 #include <fstream>
 
 #include "losmimo/common/gnuplot.h"
 #include "losmimo/mrpt_logs/range_replay.h"
+#include "track_figure_data.h"
 
 namespace losmimo::mrpt_logs {
 
 std::vector<std::string> write_range_plot(const RangeReplayResult& result, const localization::BeaconMap& beacons,
                                           const std::string& dir) {
   const std::filesystem::path d(dir);
-  {
-    // 2-sigma ellipses of the (x, y) block: gnuplot's "with ellipses" takes the full axes
-    // (diameters) and the major axis' angle in degrees.
-    std::ofstream f(d / "ellipses.dat");
-    const std::size_t every = std::max<std::size_t>(1, result.track.size() / 20);
-    for (std::size_t k = 0; k < result.track.size(); k += every) {
-      const auto& b = result.track[k].belief;
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(b.cov.topLeftCorner<2, 2>());
-      const Eigen::Vector2d l = es.eigenvalues().cwiseMax(0.0);
-      const Eigen::Vector2d major = es.eigenvectors().col(1);
-      f << b.mean(0) << "," << b.mean(1) << "," << 4.0 * std::sqrt(l(1)) << "," << 4.0 * std::sqrt(l(0)) << ","
-        << std::atan2(major(1), major(0)) * 180.0 / 3.14159265358979323846 << "\n";
-    }
-    if (!f) throw std::runtime_error((d / "ellipses.dat").string() + ": write failed");
-  }
-  {
-    std::ofstream f(d / "beacons.dat");
-    for (const auto& [id, p] : beacons.beacons()) f << id << "," << p.x() << "," << p.y() << "," << p.z() << "\n";
-    if (!f) throw std::runtime_error((d / "beacons.dat").string() + ": write failed");
-  }
+  write_ellipses_dat(result.track, d / "ellipses.dat");
+  write_map_dat(beacons, d / "beacons.dat");
   {
     std::ofstream f(d / "track.gp");
     f << "set terminal pngcairo size 900,800\nset output 'track.png'\nset datafile separator ','\n"
