@@ -35,10 +35,9 @@ std::string slurp(const std::string& path, const char* what) {
   return s.str();
 }
 
-}  // namespace
-
-localization::BeaconMap parse_landmark_file(const std::string& text, const std::string& where) {
-  localization::BeaconMap map;
+// Calls row(columns, "where:line") for every line of `text` that is neither blank nor a comment.
+template <typename Row>
+void for_each_row(const std::string& text, const std::string& where, Row row) {
   std::istringstream in(text);
   std::string line;
   int line_no = 0;
@@ -46,7 +45,15 @@ localization::BeaconMap parse_landmark_file(const std::string& text, const std::
     ++line_no;
     const std::vector<std::string> cols = columns(line);
     if (cols.empty() || is_comment(cols[0])) continue;
-    const std::string at = where + ":" + std::to_string(line_no);
+    row(cols, where + ":" + std::to_string(line_no));
+  }
+}
+
+}  // namespace
+
+localization::BeaconMap parse_landmark_file(const std::string& text, const std::string& where) {
+  localization::BeaconMap map;
+  for_each_row(text, where, [&](const std::vector<std::string>& cols, const std::string& at) {
     if (cols.size() < 4) {
       throw common::InputError(at + ": expected 'x y z ... ID', got " + std::to_string(cols.size()) + " column(s)");
     }
@@ -54,7 +61,7 @@ localization::BeaconMap parse_landmark_file(const std::string& text, const std::
     const auto id = static_cast<std::int32_t>(common::parse_integer(cols.back(), at, 0, 2147483647LL, "ID"));
     if (map.find(id)) throw common::InputError(at + ": ID " + cols.back() + " listed twice", "ID");
     map.add(id, p);
-  }
+  });
   if (map.empty()) throw common::InputError(where + ": no landmark (expected lines 'x y z ... ID')");
   return map;
 }
@@ -66,14 +73,7 @@ localization::BeaconMap read_landmark_file(const std::string& path) {
 std::vector<localization::Pose6> parse_robot_path(const std::string& text, const std::string& where) {
   static const char* kNames[] = {"x", "y", "z", "yaw", "pitch", "roll"};
   std::vector<localization::Pose6> rows;
-  std::istringstream in(text);
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    const std::vector<std::string> cols = columns(line);
-    if (cols.empty() || is_comment(cols[0])) continue;
-    const std::string at = where + ":" + std::to_string(line_no);
+  for_each_row(text, where, [&](const std::vector<std::string>& cols, const std::string& at) {
     if (cols.size() < 6) {
       throw common::InputError(at + ": expected 'x y z yaw pitch roll', got " + std::to_string(cols.size()) +
                                " column(s)");
@@ -81,7 +81,7 @@ std::vector<localization::Pose6> parse_robot_path(const std::string& text, const
     localization::Pose6 p;
     for (int k = 0; k < 6; ++k) p(k) = finite(cols[static_cast<std::size_t>(k)], at, kNames[k]);
     rows.push_back(p);
-  }
+  });
   if (rows.empty()) throw common::InputError(where + ": no row (expected 'x y z yaw pitch roll')");
   return rows;
 }
