@@ -1,6 +1,5 @@
 // losmimo-replay on bearing-range logs with a landmark map (mrpt_logs/bearing_replay.h):
 // options, messages, exit codes.
-#include <chrono>
 #include <filesystem>
 #include <optional>
 #include <ostream>
@@ -166,14 +165,7 @@ int run_bearing_replay_app(const ReplayAppOptions& options, std::ostream& out, s
     reader_options.foreign = ForeignObjects::kSandbox;
     RawlogReader reader = RawlogReader::open_file(options.rawlog_path, reader_options);
     log = load_bearing_log(reader);
-    const auto t0 = std::chrono::steady_clock::now();
-    try {
-      result = replay_bearings(log, landmarks, bo);
-    } catch (const common::InputError& e) {
-      if (log.read_status.stop == RawlogStop::kEnd) throw;
-      throw common::InputError(std::string(e.what()) + "; reading stopped: " + log.read_status.describe());
-    }
-    filter_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    filter_wall_s = timed_replay(log, [&] { result = replay_bearings(log, landmarks, bo); });
   } catch (...) {
     return report_replay_error(err, kApp, options.rawlog_path);
   }

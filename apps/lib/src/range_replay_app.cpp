@@ -1,5 +1,4 @@
 // losmimo-replay on range-only logs (mrpt_logs/range_replay.h): options, messages, exit codes.
-#include <chrono>
 #include <cmath>
 #include <optional>
 #include <ostream>
@@ -146,14 +145,7 @@ int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std
     reader_options.foreign = options.strict ? ForeignObjects::kStop : ForeignObjects::kSandbox;
     RawlogReader reader = RawlogReader::open_file(options.rawlog_path, reader_options);
     log = load_range_log(reader);
-    const auto t0 = std::chrono::steady_clock::now();
-    try {
-      result = replay_ranges(log, beacons, ro);
-    } catch (const common::InputError& e) {
-      if (log.read_status.stop == RawlogStop::kEnd) throw;
-      throw common::InputError(std::string(e.what()) + "; reading stopped: " + log.read_status.describe());
-    }
-    filter_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    filter_wall_s = timed_replay(log, [&] { result = replay_ranges(log, beacons, ro); });
   } catch (...) {
     return report_replay_error(err, kApp, options.rawlog_path);
   }

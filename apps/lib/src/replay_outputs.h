@@ -2,6 +2,7 @@
 // What both replays (mission logs and range-only logs) do alike: report an error while reading
 // the log, and write their outputs into --out as one staged folder (it appears whole or not at
 // all, with a manifest saying whether the log was read completely and the exit code).
+#include <chrono>
 #include <filesystem>
 #include <functional>
 #include <ostream>
@@ -12,6 +13,7 @@
 #include "losmimo/common/input_error.h"
 #include "losmimo/apps/staged_output.h"
 #include "losmimo/common/test_hook.h"
+#include "losmimo/rawlog_io/reader.h"
 #include "messages.h"
 
 namespace losmimo::apps {
@@ -24,6 +26,20 @@ inline void check_scene_option(bool scene, const std::string& out_dir) {
 
 // Called inside a catch (...) around reading and replaying `rawlog_path`: bad input and a file
 // that cannot be opened are kExitBadInput, anything else is a failed replay (kExitFailure).
+// Runs replay() on a log read into `log` and returns its wall time [s]. Bad input found by a
+// replay of a log whose reading stopped early also says where and why reading stopped.
+template <typename Log, typename Replay>
+double timed_replay(const Log& log, Replay replay) {
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    replay();
+  } catch (const common::InputError& e) {
+    if (log.read_status.stop == rawlog_io::RawlogStop::kEnd) throw;
+    throw common::InputError(std::string(e.what()) + "; reading stopped: " + log.read_status.describe());
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 inline int report_replay_error(std::ostream& err, const std::string& app, const std::string& rawlog_path) {
   try {
     throw;
