@@ -9,6 +9,9 @@ constexpr double kPi = 3.14159265358979323846;
 }  // namespace
 
 double wrap_angle_rad(double angle_rad) {
+  // Inside (-pi, pi] remainder() returns its argument exactly (quotient 0), so the common case
+  // skips the library call with the same bits.
+  if (angle_rad > -kPi && angle_rad <= kPi) return angle_rad;
   // remainder() maps to [-pi, pi]; fold -pi to +pi so the range is (-pi, pi].
   double wrapped = std::remainder(angle_rad, 2.0 * kPi);
   if (wrapped <= -kPi) wrapped += 2.0 * kPi;

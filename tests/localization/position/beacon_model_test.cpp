@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -177,6 +178,28 @@ TEST(WrapAngle, Values_LandInHalfOpenPiInterval) {
   EXPECT_NEAR(wrap_angle_rad(3.0 * kPi), kPi, 1e-12);
   EXPECT_NEAR(wrap_angle_rad(0.5 + 10.0 * kPi), 0.5, 1e-12);
   EXPECT_NEAR(wrap_angle_rad(-0.5 - 4.0 * kPi), -0.5, 1e-12);
+}
+
+TEST(WrapAngle, EveryValue_TheBitsOfRemainderFoldedToHalfOpenInterval) {
+  // The reference: IEEE remainder by 2 pi, -pi folded to +pi.
+  const auto reference = [](double a) {
+    double r = std::remainder(a, 2.0 * kPi);
+    if (r <= -kPi) r += 2.0 * kPi;
+    return r;
+  };
+  std::vector<double> values = {0.0, -0.0, kPi, -kPi, 2.0 * kPi, -2.0 * kPi, 1e-300, 7.5, -7.5, 1e6, -1e6};
+  for (const double edge : {kPi, -kPi}) {
+    values.push_back(std::nextafter(edge, 0.0));
+    values.push_back(std::nextafter(edge, 10.0 * edge));
+  }
+  for (int k = -2000; k <= 2000; ++k) values.push_back(0.0031 * k);
+  for (const double a : values) {
+    const double got = wrap_angle_rad(a);
+    const double want = reference(a);
+    EXPECT_EQ(std::memcmp(&got, &want, sizeof got), 0) << "angle " << a << ": " << got << " vs " << want;
+    EXPECT_TRUE(got > -kPi && got <= kPi) << a;
+  }
+  EXPECT_TRUE(std::isnan(wrap_angle_rad(std::nan(""))));
 }
 
 TEST(BeaconInnovation, AzimuthAcrossPiCut_IsSmall) {

@@ -33,7 +33,8 @@
 // xhat with its W_hat: Lambda_hat = W_hat + A(xhat)^T A(xhat) = L_hat L_hat^T, and each particle
 // runs chord iterations (simplified Newton with that fixed matrix) on its own residuals,
 //   m <- m + Lambda_hat^-1 (A_hat^T r(m) - W (m - xbar)),
-// from m = xbar until the step is below kChordTolerance sigmas (at most kMaxChordIterations),
+// from m = xbar until the step is below kChordTolerance sigmas (at most max_chord_iterations,
+// kMaxChordIterations unless the constructor is given another),
 // then x = m + L_hat^-T eps with the weight above (sum log L_hat_ii in place of sum log L_ii).
 // A particle whose chord iterations do not settle (far from xhat where h bends) gets the full
 // per-particle Gauss-Newton instead. Either way the weight is exact for the proposal used.
@@ -96,7 +97,9 @@ class OptimalProposal {
   using Vec = Eigen::Matrix<double, N, 1>;
   using Mat = Eigen::Matrix<double, N, N>;
 
-  OptimalProposal(const Measurement& measurement, const Vec& x_hat, const Mat& W_hat) : measurement_(measurement) {
+  OptimalProposal(const Measurement& measurement, const Vec& x_hat, const Mat& W_hat,
+                  int max_chord_iterations = kMaxChordIterations)
+      : measurement_(measurement), max_chord_iterations_(max_chord_iterations) {
     measurement_.rows(x_hat, rows_);
     Mat info = W_hat;
     for (const Vec& a : rows_) info.noalias() += a * a.transpose();
@@ -113,7 +116,7 @@ class OptimalProposal {
   double sample(const Vec& x_bar, const Mat& W, const Vec& eps, Vec& x_out) const {
     Vec m = x_bar;
     bool settled = false;
-    for (int it = 0; it < kMaxChordIterations && !settled; ++it) {
+    for (int it = 0; it < max_chord_iterations_ && !settled; ++it) {
       Vec grad;
       measurement_.project(m, rows_, grad);
       grad.noalias() -= W * (m - x_bar);
@@ -131,6 +134,7 @@ class OptimalProposal {
 
  private:
   const Measurement& measurement_;
+  int max_chord_iterations_;
   std::vector<Vec> rows_;
   Mat info_inv_;  // Lambda_hat^-1
   Mat L_T_inv_;   // L_hat^-T
