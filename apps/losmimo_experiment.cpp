@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <iostream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -63,9 +64,13 @@ int main(int argc, char** argv) {
   app.add_option("--config", options.config_path, "INI config (default: the paper's setup, quick trial count)");
   app.add_option("--set", options.overrides, "override a key: section.key=value (repeatable)");
   CLI::Option* out_option = app.add_option("--out", out_dir, "output directory")->capture_default_str();
-  app.add_option("--trials", options.trials, "random starts per sweep point (paper: 500)")->check(CLI::PositiveNumber);
+  // Integer ranges: CLI11's PositiveNumber / NonNegativeNumber print their bounds as doubles
+  // ("not in range 0.000000 to 1797...").
+  constexpr int kMaxCount = std::numeric_limits<int>::max();
+  app.add_option("--trials", options.trials, "random starts per sweep point (paper: 500)")
+      ->check(CLI::Range(1, kMaxCount));
   app.add_option("--threads", options.threads, "worker threads (0: all cores); results do not depend on it")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, kMaxCount));
   CLI::Option* shard_option =
       app.add_option("--shard", shard, "i/N: run only jobs j with j % N == i (0 <= i < N) into --out, for `merge`");
   CLI::Option* resume_option =
