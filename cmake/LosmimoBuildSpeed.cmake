@@ -117,3 +117,44 @@ function(_losmimo_precompile_headers_now target)
   list(REMOVE_DUPLICATES headers)
   target_precompile_headers(${target} PRIVATE ${headers})
 endfunction()
+
+# Unity builds for the libraries (losmimo_unity_groups): sources that include the same heavy
+# headers (Eigen, MRPT's filter templates, Ceres) are compiled as one translation unit, so that
+# the headers are parsed, and their inline functions and templates instantiated and optimized,
+# once per group instead of once per source. Each library lists its groups explicitly: two
+# sources whose file-local names (anonymous namespace, static) collide go to different groups,
+# and a source in no group is compiled alone, as before. Sources with their own compile options
+# (the placement kernels) are never merged by CMake.
+#
+#   -DLOSMIMO_UNITY=OFF   every source on its own. Default: ON, except under the sanitizers and
+#                         the fuzzing build (their instrumentation dominates: nothing to share)
+if(LOSMIMO_SANITIZE OR LOSMIMO_FUZZ)
+  set(losmimo_unity_default OFF)
+else()
+  set(losmimo_unity_default ON)
+endif()
+option(LOSMIMO_UNITY "Compile each library's listed source groups as single translation units"
+       ${losmimo_unity_default})
+
+# losmimo_unity_groups(<target> GROUP <source>... [GROUP <source>...]...): each GROUP's sources
+# (paths relative to the calling CMakeLists.txt) form one translation unit of <target>.
+function(losmimo_unity_groups target)
+  if(NOT LOSMIMO_UNITY)
+    return()
+  endif()
+  set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_MODE GROUP)
+  set(index 0)
+  foreach(arg IN LISTS ARGN)
+    if(arg STREQUAL "GROUP")
+      math(EXPR index "${index} + 1")
+    elseif(index EQUAL 0)
+      message(FATAL_ERROR "losmimo_unity_groups(${target}): '${arg}' before the first GROUP")
+    else()
+      get_target_property(sources ${target} SOURCES)
+      if(NOT arg IN_LIST sources)
+        message(FATAL_ERROR "losmimo_unity_groups(${target}): ${arg} is not a source of ${target}")
+      endif()
+      set_source_files_properties(${arg} TARGET_DIRECTORY ${target} PROPERTIES UNITY_GROUP ${target}_${index})
+    endif()
+  endforeach()
+endfunction()

@@ -72,6 +72,10 @@ function(losmimo_add_app name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS})
   target_compile_definitions(${name} PRIVATE LOSMIMO_VERSION="${PROJECT_VERSION}")
+  # A main only builds its command line (CLI11, header-only) and calls the library: -O1 instead
+  # of Release's -O3 compiles it with a third less CPU (losmimo_eval.cpp 10.2 s -> 6.7 s); the
+  # work runs in the libraries, at -O3.
+  target_compile_options(${name} PRIVATE $<$<CONFIG:Release>:-O1>)
   losmimo_target_warnings(${name})
   install(TARGETS ${name} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
   add_dependencies(losmimo_dist ${name})
