@@ -8,6 +8,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <exception>
+#include <thread>
 #include <vector>
 
 #include "losmimo/localization/optimal_proposal.h"
@@ -97,6 +99,36 @@ void pose6_moments(const std::vector<Pose6>& poses, const std::vector<double>& w
   cov = m2 - m1 * m1.transpose();
 }
 
+// f(k) for every k < n, the range split in two halves on two threads when the machine has two
+// cores and there is enough work; f must touch only what belongs to its k. An exception in
+// either half is rethrown here after both are done.
+template <class F>
+void for_each_index_split(std::size_t n, const F& f) {
+  constexpr std::size_t kMinPerThread = 32;
+  if (std::thread::hardware_concurrency() < 2 || n < 2 * kMinPerThread) {
+    for (std::size_t k = 0; k < n; ++k) f(k);
+    return;
+  }
+  const std::size_t half = n / 2;
+  std::exception_ptr error;
+  std::thread second([&] {
+    try {
+      for (std::size_t k = half; k < n; ++k) f(k);
+    } catch (...) {
+      error = std::current_exception();
+    }
+  });
+  std::exception_ptr first_error;
+  try {
+    for (std::size_t k = 0; k < half; ++k) f(k);
+  } catch (...) {
+    first_error = std::current_exception();
+  }
+  second.join();
+  if (first_error) std::rethrow_exception(first_error);
+  if (error) std::rethrow_exception(error);
+}
+
 FilterConfig particle_options(const LandmarkFilterConfig& config) {
   FilterConfig f;
   f.num_particles = config.num_particles;
@@ -184,11 +216,17 @@ class LandmarkParticleFilter final
       W_mean += w[i] * W[i];
     }
     const OptimalProposal<6, WhitenedBearings> proposal(measurement, predicted.mean, W_mean, kLandmarkChordIterations);
+    // The draws in particle order (the stream is the same for any split), then the particles'
+    // proposals, independent of each other, on two threads.
+    std::vector<Pose6> eps(n);
+    for (Pose6& e : eps) e = normal6();
+    std::vector<Pose6> x(n);
+    std::vector<double> log_w_increment(n);
+    for_each_index_split(n, [&](std::size_t k) { log_w_increment[k] = proposal.sample(x_bar[k], W[k], eps[k], x[k]); });
     i = 0;
     for (auto& p : m_particles) {
-      Pose6 x;
-      p.log_w += proposal.sample(x_bar[i], W[i], normal6(), x);
-      p.d = project(x);
+      p.log_w += log_w_increment[i];
+      p.d = project(x[i]);
       ++i;
     }
   }
@@ -201,8 +239,17 @@ class LandmarkParticleFilter final
   }
 
   // Angles normalised as CPose3D; z, pitch, roll at 0 when planar.
+  // Inside |pitch| < pi/2 the yaw-pitch-roll of a rotation is unique, so wrapping yaw and roll
+  // gives the angles CPose3D would (to rounding) without building and decomposing its matrix.
   Pose6 project(const Pose6& x) const {
-    Pose6 out = compose_pose6(x, Pose6::Zero());
+    constexpr double kHalfPi = 1.57079632679489661923;
+    Pose6 out = x;
+    if (std::abs(x(kP6Pitch)) < kHalfPi - 1e-6) {
+      out(kP6Yaw) = wrap_angle_rad(x(kP6Yaw));
+      out(kP6Roll) = wrap_angle_rad(x(kP6Roll));
+    } else {
+      out = compose_pose6(x, Pose6::Zero());
+    }
     if (config_.planar) out(kP6Z) = out(kP6Pitch) = out(kP6Roll) = 0.0;
     return out;
   }

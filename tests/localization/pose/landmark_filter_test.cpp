@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "losmimo/localization/pose/landmark_filter.h"
@@ -164,6 +165,30 @@ TEST(LandmarkFilters, SimulatedCircle_EkfAndParticleFilterTrackToCentimetresAndA
     EXPECT_GT(nis, planar ? 1.0 : 1.5);
     EXPECT_LT(nis, planar ? 3.0 : 4.5);
   }
+}
+
+TEST(LandmarkFilters, ParticleFilter_SameSeedSameBitsEveryFrame_OtherSeedOtherBeliefs) {
+  // 200 particles: the proposals run split over two threads on a machine with two cores; the
+  // beliefs must not depend on which thread finishes first.
+  const BeaconMap map = square_map();
+  const SimRun run = simulate(map, false, 30);
+  LandmarkFilterConfig config;
+  config.num_particles = 200;
+  LandmarkBelief start;
+  start.cov = Matrix6d(Pose6::Constant(1e-4).asDiagonal());
+  const auto a = make_landmark_filter(FilterKind::kParticle, config, map, start, 7);
+  const auto b = make_landmark_filter(FilterKind::kParticle, config, map, start, 7);
+  const auto c = make_landmark_filter(FilterKind::kParticle, config, map, start, 8);
+  bool c_differs = false;
+  for (std::size_t k = 0; k < run.truth.size(); ++k) {
+    for (const auto* f : {&a, &b, &c}) (*f)->step(run.odometry[k], run.scans[k]);
+    const LandmarkBelief ba = a->belief(), bb = b->belief(), bc = c->belief();
+    ASSERT_EQ(std::memcmp(ba.mean.data(), bb.mean.data(), sizeof(double) * 6), 0) << "frame " << k;
+    ASSERT_EQ(std::memcmp(ba.cov.data(), bb.cov.data(), sizeof(double) * 36), 0) << "frame " << k;
+    c_differs = c_differs || ba.mean != bc.mean;
+  }
+  EXPECT_TRUE(c_differs);
+  EXPECT_LT((a->belief().mean.head<3>() - run.truth.back().head<3>()).norm(), 0.05);
 }
 
 TEST(LandmarkFilters, BadConfig_IsRefusedNamingTheField) {
