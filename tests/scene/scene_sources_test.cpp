@@ -93,6 +93,19 @@ Eigen::Matrix3Xd final_truth_of(const std::string& log_path) {
   return log.final_truth_m.value_or(Eigen::Matrix3Xd());
 }
 
+// losmimo-replay with --scene into out_dir, and its scene read back (not loaded, with the app's
+// error reported, when the replay fails).
+LoadedScene replay_scene(apps::ReplayAppOptions r, const fs::path& out_dir) {
+  r.out_dir = out_dir.string();
+  r.out_given = true;
+  r.scene = true;
+  std::ostringstream out, err;
+  const int code = apps::run_replay_app(r, out, err);
+  EXPECT_EQ(code, 0) << err.str();
+  if (code != 0) return {};
+  return load_scene((out_dir / "scene.3Dscene").string());
+}
+
 TEST(SceneSources, ExperimentPathRuns_TruePathsFromPathsCsvAndBsArray) {
   const fs::path dir = temp_dir("experiment") / "run";
   apps::ExperimentOptions o;
@@ -197,11 +210,7 @@ TEST(SceneSources, ReplayOwnLog_SceneHoldsItsEstimatesCsv) {
   apps::ReplayAppOptions r;
   r.rawlog_path = rec.out_path;
   r.estimator = "pf";  // another estimator than the recorded one: the replay's beliefs, not the log's
-  r.out_dir = (dir / "replay").string();
-  r.out_given = true;
-  r.scene = true;
-  ASSERT_EQ(apps::run_replay_app(r, out, err), 0) << err.str();
-  const LoadedScene s = load_scene((dir / "replay" / "scene.3Dscene").string());
+  const LoadedScene s = replay_scene(r, dir / "replay");
   ASSERT_TRUE(s.loaded);
   expect_small_bs_array(s);
   const CsvTable est = read_csv_table((dir / "replay" / "estimates.csv").string());
@@ -217,12 +226,7 @@ TEST(SceneSources, RangeReplayOfMrptUwbDemo_BeaconsTrackAndGroundTruth) {
   r.rawlog_path = kMrptData + "/uwb_ro-localization_demo.rawlog";
   r.mrpt_config = kUwbIni;
   r.estimator = "ekf";
-  r.out_dir = (dir / "out").string();
-  r.out_given = true;
-  r.scene = true;
-  std::ostringstream out, err;
-  ASSERT_EQ(apps::run_replay_app(r, out, err), 0) << err.str();
-  const LoadedScene s = load_scene((dir / "out" / "scene.3Dscene").string());
+  const LoadedScene s = replay_scene(r, dir / "out");
   ASSERT_TRUE(s.loaded);
   EXPECT_FALSE(s.has("bs_array"));
   // The config's three anchors (its [MetricMap_landmarksMap_00_creationOpts] beacon_002_*).
@@ -266,12 +270,7 @@ TEST(SceneSources, BearingReplayOfMrptKfSlam6D_LandmarksTrackTruthAndSmoother) {
   r.landmarks_path = kMrptData + "/kf-slam_6D_demo_ground_truth.txt";
   r.ground_truth = kMrptData + "/kf-slam_6D_demo_ground_truth_robot_path.txt";
   r.refine = true;
-  r.out_dir = (dir / "out").string();
-  r.out_given = true;
-  r.scene = true;
-  std::ostringstream out, err;
-  ASSERT_EQ(apps::run_replay_app(r, out, err), 0) << err.str();
-  const LoadedScene s = load_scene((dir / "out" / "scene.3Dscene").string());
+  const LoadedScene s = replay_scene(r, dir / "out");
   ASSERT_TRUE(s.loaded);
   const auto landmarks = s.points("beacons");
   ASSERT_EQ(landmarks.size(), 50u);
