@@ -191,8 +191,9 @@ class LandmarkParticleFilter final
       ++i;
     }
     // Predicted moments: the spread of the predicted means plus the motion noise at the mean.
+    const std::vector<double> w = normalized_weights(log_weights(m_particles));
     LandmarkBelief predicted;
-    pose6_moments(x_bar, normalized_weights(log_weights(m_particles)), predicted.mean, predicted.cov);
+    pose6_moments(x_bar, w, predicted.mean, predicted.cov);
     predicted.cov += odometry_noise(config_, predicted.mean, OdometryIncrement6{Pose6::Zero(), u_.cov});
     const std::vector<AssociatedReading> fuse =
         associate(config_, landmarks_, scans_ ? *scans_ : std::vector<BearingScan>{}, predicted, counters_);
@@ -210,7 +211,6 @@ class LandmarkParticleFilter final
     const WhitenedBearings measurement(fuse);
     std::vector<Matrix6d> W(n);
     Matrix6d W_mean = Matrix6d::Zero();
-    const std::vector<double> w = normalized_weights(log_weights(m_particles));
     for (i = 0; i < n; ++i) {
       W[i] = (J_u[i] * sigma_u * J_u[i].transpose()).llt().solve(Matrix6d::Identity());
       W_mean += w[i] * W[i];
