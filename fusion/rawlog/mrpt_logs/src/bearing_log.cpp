@@ -1,18 +1,13 @@
 #include "losmimo/mrpt_logs/bearing_log.h"
 
-#include <cmath>
-#include <limits>
-#include <optional>
+#include <algorithm>
 
-#include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CActionRobotMovement3D.h>
 #include <mrpt/obs/CObservationBearingRange.h>
-#include <mrpt/obs/CObservationOdometry.h>
-#include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPosePDF.h>
-#include <mrpt/system/datetime.h>
 
+#include "log_loader.h"
 #include "losmimo/localization/pose/odometry_model.h"
 
 namespace losmimo::mrpt_logs {
@@ -21,10 +16,6 @@ namespace {
 
 using localization::OdometryIncrement6;
 using localization::Pose6;
-
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-
-double seconds_of(const mrpt::Clock::time_point& t) { return t == INVALID_TIMESTAMP ? kNan : mrpt::Clock::toDouble(t); }
 
 // A 2-D increment (x, y, phi) with its 3x3 covariance as a 6-D one.
 OdometryIncrement6 planar_increment(double x, double y, double phi, const Eigen::Matrix3d& cov) {
@@ -36,62 +27,10 @@ OdometryIncrement6 planar_increment(double x, double y, double phi, const Eigen:
   return u;
 }
 
-class Loader {
+class Loader : public detail::LogLoader<Loader, BearingLog, BearingFrame, mrpt::obs::CObservationBearingRange> {
  public:
-  explicit Loader(BearingLog& log) : log_(log) {}
+  using LogLoader::LogLoader;
 
-  void add(const mrpt::serialization::CSerializable& obj, const std::string& class_name) {
-    if (const auto* sf = dynamic_cast<const mrpt::obs::CSensoryFrame*>(&obj)) {
-      BearingFrame frame;
-      frame.step = sensory_frames_++;
-      frame.timestamp_s = kNan;
-      for (const auto& o : *sf) {
-        if (!o) continue;
-        if (std::isnan(frame.timestamp_s)) frame.timestamp_s = seconds_of(o->timestamp);
-        add_observation_to(*o, frame);
-      }
-      take_pending(frame);
-      log_.frames.push_back(std::move(frame));
-      return;
-    }
-    if (const auto* acts = dynamic_cast<const mrpt::obs::CActionCollection*>(&obj)) {
-      for (std::size_t i = 0; i < acts->size(); ++i) add_action(acts->get(i));
-      return;
-    }
-    const std::int64_t index = top_level_++;
-    if (const auto* b = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obj)) {
-      BearingFrame frame;
-      frame.step = index;
-      frame.timestamp_s = seconds_of(b->timestamp);
-      add_observation_to(*b, frame);
-      take_pending(frame);
-      log_.frames.push_back(std::move(frame));
-      return;
-    }
-    if (const auto* odo = dynamic_cast<const mrpt::obs::CObservationOdometry*>(&obj)) {
-      const Eigen::Vector4d p(odo->odometry.x(), odo->odometry.y(), 0.0, odo->odometry.phi());
-      if (last_odometry_) {
-        const Eigen::Vector4d u = localization::increment_between(*last_odometry_, p);
-        const localization::OdometryIncrement o =
-            localization::odometry_2d(u(0), u(1), u(3), localization::GaussianMotionModel2D{});
-        Eigen::Matrix3d cov;
-        const int idx[3] = {localization::kPoseX, localization::kPoseY, localization::kPoseYaw};
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c) cov(r, c) = o.cov(idx[r], idx[c]);
-        add_increment(planar_increment(u(0), u(1), u(3), cov));
-      }
-      last_odometry_ = p;
-      ++log_.used[class_name];
-      return;
-    }
-    ++log_.skipped[class_name];
-  }
-
-  void finish() {
-    if (pending_) ++log_.trailing_actions;
-  }
-
- private:
   void add_observation_to(const mrpt::obs::CObservation& o, BearingFrame& frame) {
     const std::string name = o.GetRuntimeClass()->className;
     const auto* b = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&o);
@@ -139,44 +78,28 @@ class Loader {
     }
   }
 
-  void add_increment(const OdometryIncrement6& u) {
-    if (!pending_) {
-      pending_ = u;
-      return;
-    }
+  // A 2-D increment between two odometry poses, with the 2-D motion model's covariance, as 6-D.
+  OdometryIncrement6 odometry_increment(const Eigen::Vector4d& u) const {
+    const localization::OdometryIncrement o =
+        localization::odometry_2d(u(0), u(1), u(3), localization::GaussianMotionModel2D{});
+    Eigen::Matrix3d cov;
+    const int idx[3] = {localization::kPoseX, localization::kPoseY, localization::kPoseYaw};
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) cov(r, c) = o.cov(idx[r], idx[c]);
+    return planar_increment(u(0), u(1), u(3), cov);
+  }
+
+  static OdometryIncrement6 chain(const OdometryIncrement6& u1, const OdometryIncrement6& u2) {
     localization::Matrix6d J_x, J_u;
     OdometryIncrement6 out;
-    out.delta = localization::compose_pose6(pending_->delta, u.delta, &J_x, &J_u);
-    out.cov = J_x * pending_->cov * J_x.transpose() + J_u * u.cov * J_u.transpose();
-    pending_ = out;
+    out.delta = localization::compose_pose6(u1.delta, u2.delta, &J_x, &J_u);
+    out.cov = J_x * u1.cov * J_x.transpose() + J_u * u2.cov * J_u.transpose();
+    return out;
   }
-
-  void take_pending(BearingFrame& frame) {
-    if (pending_) {
-      frame.has_odometry = true;
-      frame.odometry = *pending_;
-    }
-    pending_.reset();
-  }
-
-  BearingLog& log_;
-  std::int64_t sensory_frames_ = 0;
-  std::int64_t top_level_ = 0;
-  std::optional<OdometryIncrement6> pending_;
-  std::optional<Eigen::Vector4d> last_odometry_;
 };
 
 }  // namespace
 
-BearingLog load_bearing_log(rawlog_io::RawlogReader& reader) {
-  BearingLog log;
-  Loader loader(log);
-  while (auto object = reader.next()) {
-    if (object->object) loader.add(*object->object, object->class_name);
-  }
-  loader.finish();
-  log.read_status = reader.status();
-  return log;
-}
+BearingLog load_bearing_log(rawlog_io::RawlogReader& reader) { return detail::load_log<Loader, BearingLog>(reader); }
 
 }  // namespace losmimo::mrpt_logs

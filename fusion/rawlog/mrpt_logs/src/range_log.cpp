@@ -1,19 +1,13 @@
 #include "losmimo/mrpt_logs/range_log.h"
 
-#include <cmath>
-#include <limits>
-#include <optional>
 #include <sstream>
 
-#include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CActionRobotMovement3D.h>
 #include <mrpt/obs/CObservationBeaconRanges.h>
-#include <mrpt/obs/CObservationOdometry.h>
-#include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPosePDF.h>
-#include <mrpt/system/datetime.h>
 
+#include "log_loader.h"
 #include "losmimo/rawlog_io/labels.h"
 
 namespace losmimo::mrpt_logs {
@@ -21,20 +15,6 @@ namespace losmimo::mrpt_logs {
 namespace {
 
 using localization::OdometryIncrement;
-
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-
-double seconds_of(const mrpt::Clock::time_point& t) { return t == INVALID_TIMESTAMP ? kNan : mrpt::Clock::toDouble(t); }
-
-// u1 (+) u2 with the covariance of the header.
-OdometryIncrement chain(const OdometryIncrement& u1, const OdometryIncrement& u2) {
-  OdometryIncrement out;
-  out.delta = localization::compose(u1.delta, u2.delta);
-  const Eigen::Matrix4d Jx = localization::compose_jacobian_pose(u1.delta, u2.delta);
-  const Eigen::Matrix4d Ju = localization::compose_jacobian_increment(u1.delta);
-  out.cov = Jx * u1.cov * Jx.transpose() + Ju * u2.cov * Ju.transpose();
-  return out;
-}
 
 localization::BeaconRangeScan scan_of(const mrpt::obs::CObservationBeaconRanges& obs) {
   localization::BeaconRangeScan scan;
@@ -52,56 +32,10 @@ localization::BeaconRangeScan scan_of(const mrpt::obs::CObservationBeaconRanges&
   return scan;
 }
 
-class Loader {
+class Loader : public detail::LogLoader<Loader, RangeLog, RangeFrame, mrpt::obs::CObservationBeaconRanges> {
  public:
-  explicit Loader(RangeLog& log) : log_(log) {}
+  using LogLoader::LogLoader;
 
-  void add(const mrpt::serialization::CSerializable& obj, const std::string& class_name) {
-    if (const auto* sf = dynamic_cast<const mrpt::obs::CSensoryFrame*>(&obj)) {
-      RangeFrame frame;
-      frame.step = sensory_frames_++;
-      frame.timestamp_s = kNan;
-      for (const auto& o : *sf) {
-        if (!o) continue;
-        if (std::isnan(frame.timestamp_s)) frame.timestamp_s = seconds_of(o->timestamp);
-        add_observation_to(*o, frame);
-      }
-      take_pending(frame);
-      log_.frames.push_back(std::move(frame));
-      return;
-    }
-    if (const auto* acts = dynamic_cast<const mrpt::obs::CActionCollection*>(&obj)) {
-      for (std::size_t i = 0; i < acts->size(); ++i) add_action(acts->get(i));
-      return;
-    }
-    const std::int64_t index = top_level_++;
-    if (const auto* b = dynamic_cast<const mrpt::obs::CObservationBeaconRanges*>(&obj)) {
-      RangeFrame frame;
-      frame.step = index;
-      frame.timestamp_s = seconds_of(b->timestamp);
-      add_observation_to(*b, frame);
-      take_pending(frame);
-      log_.frames.push_back(std::move(frame));
-      return;
-    }
-    if (const auto* odo = dynamic_cast<const mrpt::obs::CObservationOdometry*>(&obj)) {
-      const Eigen::Vector4d p(odo->odometry.x(), odo->odometry.y(), 0.0, odo->odometry.phi());
-      if (last_odometry_) {
-        const Eigen::Vector4d u = localization::increment_between(*last_odometry_, p);
-        add_increment(localization::odometry_2d(u(0), u(1), u(3), localization::GaussianMotionModel2D{}));
-      }
-      last_odometry_ = p;
-      ++log_.used[class_name];
-      return;
-    }
-    ++log_.skipped[class_name];
-  }
-
-  void finish() {
-    if (pending_) ++log_.trailing_actions;
-  }
-
- private:
   void add_observation_to(const mrpt::obs::CObservation& o, RangeFrame& frame) {
     const std::string name = o.GetRuntimeClass()->className;
     if (const auto* b = dynamic_cast<const mrpt::obs::CObservationBeaconRanges*>(&o)) {
@@ -138,35 +72,25 @@ class Loader {
     }
   }
 
-  void add_increment(const OdometryIncrement& u) { pending_ = pending_ ? chain(*pending_, u) : u; }
-
-  void take_pending(RangeFrame& frame) {
-    if (pending_) {
-      frame.has_odometry = true;
-      frame.odometry = *pending_;
-    }
-    pending_.reset();
+  // A 2-D increment between two odometry poses, with the 2-D motion model's covariance.
+  OdometryIncrement odometry_increment(const Eigen::Vector4d& u) const {
+    return localization::odometry_2d(u(0), u(1), u(3), localization::GaussianMotionModel2D{});
   }
 
-  RangeLog& log_;
-  std::int64_t sensory_frames_ = 0;
-  std::int64_t top_level_ = 0;
-  std::optional<OdometryIncrement> pending_;
-  std::optional<Eigen::Vector4d> last_odometry_;
+  // u1 (+) u2 with the covariance of the header.
+  static OdometryIncrement chain(const OdometryIncrement& u1, const OdometryIncrement& u2) {
+    OdometryIncrement out;
+    out.delta = localization::compose(u1.delta, u2.delta);
+    const Eigen::Matrix4d Jx = localization::compose_jacobian_pose(u1.delta, u2.delta);
+    const Eigen::Matrix4d Ju = localization::compose_jacobian_increment(u1.delta);
+    out.cov = Jx * u1.cov * Jx.transpose() + Ju * u2.cov * Ju.transpose();
+    return out;
+  }
 };
 
 }  // namespace
 
-RangeLog load_range_log(rawlog_io::RawlogReader& reader) {
-  RangeLog log;
-  Loader loader(log);
-  while (auto object = reader.next()) {
-    if (object->object) loader.add(*object->object, object->class_name);
-  }
-  loader.finish();
-  log.read_status = reader.status();
-  return log;
-}
+RangeLog load_range_log(rawlog_io::RawlogReader& reader) { return detail::load_log<Loader, RangeLog>(reader); }
 
 std::string describe_counts(const std::map<std::string, std::int64_t>& counts) {
   if (counts.empty()) return "none";
