@@ -127,10 +127,7 @@ int run_bearing_replay_app(const ReplayAppOptions& options, std::ostream& out, s
   try {
     if (!options.mrpt_config.empty()) cfg = read_kf_slam_config(options.mrpt_config);
     bo = bearing_options(options, cfg ? &*cfg : nullptr);
-    if (options.out_given && options.out_dir.empty())
-      throw common::InputError("--out '': an output folder is required");
-    check_scene_option(options.scene, options.out_dir);
-    if (!options.out_dir.empty()) StagedDir::check(options.out_dir, options.replace, StaleStaging::kDiscard);
+    check_out_options(options);
     const std::string map_file = !options.landmarks_path.empty() ? options.landmarks_path : cfg->landmarks_file;
     if (map_file.empty()) {
       throw common::InputError(options.mrpt_config +
@@ -140,9 +137,7 @@ int run_bearing_replay_app(const ReplayAppOptions& options, std::ostream& out, s
     const std::string gt = !options.ground_truth.empty() ? options.ground_truth : cfg ? cfg->robot_path_file : "";
     if (!gt.empty()) bo.ground_truth = read_robot_path(gt);
     if (cfg) {
-      std::string keys;
-      for (const std::string& k : cfg->unused_keys) keys += (keys.empty() ? "" : ", ") + k;
-      if (!keys.empty()) out << "not used from " << options.mrpt_config << ": " << keys << "\n";
+      print_unused_keys(out, options.mrpt_config, cfg->unused_keys);
       if (!cfg->rawlog_file.empty() &&
           std::filesystem::weakly_canonical(cfg->rawlog_file) != std::filesystem::weakly_canonical(options.rawlog_path))
         out << "note: replaying " << options.rawlog_path << ", not the config's rawlog_file " << cfg->rawlog_file

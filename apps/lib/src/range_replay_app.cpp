@@ -118,18 +118,11 @@ int run_range_replay_app(const ReplayAppOptions& options, std::ostream& out, std
   try {
     if (!options.mrpt_config.empty()) cfg = read_mrpt_app_config(options.mrpt_config);
     ro = range_options(options, cfg ? &*cfg : nullptr);
-    if (options.out_given && options.out_dir.empty())
-      throw common::InputError("--out '': an output folder is required");
-    check_scene_option(options.scene, options.out_dir);
-    if (!options.out_dir.empty()) StagedDir::check(options.out_dir, options.replace, StaleStaging::kDiscard);
+    check_out_options(options);
     beacons = beacon_map_of(options, cfg ? &*cfg : nullptr);
     const std::string gt = !options.ground_truth.empty() ? options.ground_truth : cfg ? cfg->ground_truth_file : "";
     if (!gt.empty()) ro.ground_truth = read_relative_ground_truth(gt);
-    if (cfg && !cfg->unused_keys.empty()) {
-      std::string keys;
-      for (const std::string& k : cfg->unused_keys) keys += (keys.empty() ? "" : ", ") + k;
-      out << "not used from " << options.mrpt_config << ": " << keys << "\n";
-    }
+    if (cfg) print_unused_keys(out, options.mrpt_config, cfg->unused_keys);
   } catch (const OutputExistsError& e) {
     print_output_exists(err, kApp, e, "--out");
     return kExitBadInput;

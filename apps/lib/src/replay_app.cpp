@@ -68,10 +68,7 @@ int run_replay_app(const ReplayAppOptions& options, std::ostream& out, std::ostr
     }
     if (options.refine && options.no_refine) throw common::InputError("--refine and --no-refine together");
     kernel_isa_name();  // a bad LOSMIMO_ISA stops here: kExitBadInput
-    if (options.out_given && options.out_dir.empty())
-      throw common::InputError("--out '': an output folder is required");
-    check_scene_option(options.scene, options.out_dir);
-    if (!options.out_dir.empty()) StagedDir::check(options.out_dir, options.replace, StaleStaging::kDiscard);
+    check_out_options(options);
   } catch (...) {
     return report_current_exception(err, kApp);
   }

@@ -1,5 +1,6 @@
 #pragma once
-// What both replays (mission logs and range-only logs) do alike: report an error while reading
+// What the replays (mission, range-only and bearing-range logs) do alike: check --out and
+// --scene, name the stock configuration's keys they do not use, report an error while reading
 // the log, and write their outputs into --out as one staged folder (it appears whole or not at
 // all, with a manifest saying whether the log was read completely and the exit code).
 #include <chrono>
@@ -8,8 +9,10 @@
 #include <ostream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "losmimo/apps/exit_codes.h"
+#include "losmimo/apps/replay_app.h"
 #include "losmimo/common/input_error.h"
 #include "losmimo/apps/staged_output.h"
 #include "losmimo/common/test_hook.h"
@@ -18,10 +21,22 @@
 
 namespace losmimo::apps {
 
-// --scene writes into the --out folder: refused without one.
-inline void check_scene_option(bool scene, const std::string& out_dir) {
-  if (scene && out_dir.empty())
+// --out and --scene before any work: an empty --out, --scene without --out (it writes into
+// that folder), and an --out that holds results without --replace are refused (InputError or
+// OutputExistsError).
+inline void check_out_options(const ReplayAppOptions& options) {
+  if (options.out_given && options.out_dir.empty()) throw common::InputError("--out '': an output folder is required");
+  if (options.scene && options.out_dir.empty())
     throw common::InputError("--scene: writes scene.3Dscene into the --out folder: give --out DIR");
+  if (!options.out_dir.empty()) StagedDir::check(options.out_dir, options.replace, StaleStaging::kDiscard);
+}
+
+// "not used from CONFIG: k1, k2" on out, nothing when every key is used.
+inline void print_unused_keys(std::ostream& out, const std::string& config_path, const std::vector<std::string>& keys) {
+  if (keys.empty()) return;
+  std::string list;
+  for (const std::string& k : keys) list += (list.empty() ? "" : ", ") + k;
+  out << "not used from " << config_path << ": " << list << "\n";
 }
 
 // Called inside a catch (...) around reading and replaying `rawlog_path`: bad input and a file
