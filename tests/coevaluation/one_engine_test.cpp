@@ -122,7 +122,7 @@ TEST(OneEngine, GdEkfWithPerfectSensors_FollowsTheOpenLoopGdWithPerfectKnowledge
     placement::PlacementSettings p = s.placement;
     p.run.record_path = true;
     // WHEN: the closed loop with the EKF, and the open-loop GD at sigma_loc 0.
-    fusion::ClosedLoopConfig config = coevaluation_closed_loop_config(c, p.scenario, CoevalAlgorithm::kGdEkf, 0.0);
+    fusion::ClosedLoopConfig config = coevaluation_closed_loop_config(c, p.scenario, "ekf", 0.0);
     config.simulator.dr_sigma_floor_m = 0.0;  // exact dead reckoning (the key refuses 0: a real sensor errs)
     config.simulator.dr_sigma_fraction = 0.0;
     const fusion::ClosedLoopRun closed = fusion::run_closed_loop(p, start, config, 11);

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "losmimo/common/input_error.h"
+#include "losmimo/common/text.h"
 
 namespace losmimo::apps {
 
@@ -129,15 +130,17 @@ const std::vector<UnusedKeys>& unused_keys() {
        "the Ceres refinement's settings (set [closed_loop] refine = true)"},
       // The co-evaluation's algorithms that some keys serve alone (coevaluation/extensions.cpp).
       {{"closed_loop.num_particles"},
-       {"no gd_pf in [coevaluation] algorithms", "no gd_pf in [coevaluation] outage_algorithms"},
-       "the particle filter's size: only gd_pf runs one"},
+       {"no pf estimator in [coevaluation] algorithms", "no pf estimator in [coevaluation] outage_algorithms"},
+       "the particle filter's size: only the pf estimator (gd_pf) runs one"},
       {{"closed_loop.window_epochs", "closed_loop.use_csi"},
-       {"no gd_ekf_ceres in [coevaluation] algorithms", "no gd_ekf_ceres in [coevaluation] outage_algorithms"},
-       "the refinement's settings: only gd_ekf_ceres refines"},
-      {{"ura.*", "coevaluation.ura_variant"},
-       {"no ura_ekf in [coevaluation] algorithms"},
-       "the URA's settings: only ura_ekf runs one"},
-      {{"cap.*"}, {"no cap_ekf in [coevaluation] algorithms"}, "the capacity planner's settings: only cap_ekf runs it"},
+       {"no ekf_ceres estimator in [coevaluation] algorithms",
+        "no ekf_ceres estimator in [coevaluation] outage_algorithms"},
+       "the refinement's settings: only the ekf_ceres estimator (gd_ekf_ceres) refines"},
+      {{"ura.*"}, {"no URA planner in [coevaluation] algorithms"}, "the URA's settings: only a URA row (ura_ekf) runs one"},
+      {{"coevaluation.ura_variant"}, {"no ura_ekf in [coevaluation] algorithms"}, "the URA variant of ura_ekf"},
+      {{"cap.*"},
+       {"no cap planner in [coevaluation] algorithms"},
+       "the capacity planner's settings: only a cap row (cap_ekf) runs it"},
       {{"cap.*"}, {kRecord, kBeaconOutage}, "no capacity planner runs (the closed loop plans with GD and BF)"},
       // The closed loop (losmimo-record, and every beacon_outage row) plans with GD, and BF for a
       // UAV whose belief is degraded (fusion/closed_loop.h).
@@ -210,12 +213,8 @@ void refuse_unused_overrides(const common::IniConfig& config, const std::vector<
     const std::size_t dot = assignment.find('.');
     const std::size_t eq = assignment.find('=');
     if (dot == std::string::npos || eq == std::string::npos || dot > eq) continue;
-    const auto trim = [](const std::string& s) {
-      const std::size_t b = s.find_first_not_of(" \t");
-      return b == std::string::npos ? std::string() : s.substr(b, s.find_last_not_of(" \t") - b + 1);
-    };
-    const std::string section = trim(assignment.substr(0, dot));
-    const std::string key = trim(assignment.substr(dot + 1, eq - dot - 1));
+    const std::string section = common::trim(assignment.substr(0, dot));
+    const std::string key = common::trim(assignment.substr(dot + 1, eq - dot - 1));
     // Unused when every user is listed, by its name or a condition, by an entry of the key.
     std::vector<std::string> reasons;
     bool used = false;

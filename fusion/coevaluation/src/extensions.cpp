@@ -8,16 +8,27 @@ namespace losmimo::coevaluation {
 
 namespace {
 
-// "no <algorithm> in [coevaluation] <key>" for each of the algorithms that some keys serve alone
-// (gd_pf: num_particles; gd_ekf_ceres: the refinement's; ura_ekf: [ura] and ura_variant; cap_ekf: [cap]) that the
-// run does not list.
-std::vector<std::string> absent(const std::vector<CoevalAlgorithm>& listed, const std::string& key) {
+// The conditions under which keys that only some rows read are unused (apps/unused_keys.h names
+// them): "no <estimator> estimator in [coevaluation] <key>" for each estimator that has keys of its
+// own (pf: num_particles; ekf_ceres: the refinement's) and "no <planner> planner in ..." for cap
+// and the URAs ([cap], [ura]), when no listed row has it; "no ura_ekf in ..." for ura_variant.
+std::vector<std::string> absent(const std::vector<CoevalRow>& listed, const std::string& key) {
+  const auto has = [&](auto&& pred) { return std::any_of(listed.begin(), listed.end(), pred); };
   std::vector<std::string> conditions;
-  for (const CoevalAlgorithm a :
-       {CoevalAlgorithm::kGdPf, CoevalAlgorithm::kGdEkfCeres, CoevalAlgorithm::kUraEkf, CoevalAlgorithm::kCapEkf}) {
-    if (std::find(listed.begin(), listed.end(), a) == listed.end()) {
-      conditions.push_back("no " + to_string(a) + " in [coevaluation] " + key);
+  for (const std::string& estimator : estimator_names()) {
+    if (estimator_entry(estimator).keys.empty()) continue;
+    if (!has([&](const CoevalRow& r) { return r.estimator == estimator; })) {
+      conditions.push_back("no " + estimator + " estimator in [coevaluation] " + key);
     }
+  }
+  if (!has([](const CoevalRow& r) { return r.planner.rfind("ura", 0) == 0; })) {
+    conditions.push_back("no URA planner in [coevaluation] " + key);
+  }
+  if (!has([](const CoevalRow& r) { return r.name == "ura_ekf"; })) {
+    conditions.push_back("no ura_ekf in [coevaluation] " + key);
+  }
+  if (!has([](const CoevalRow& r) { return r.planner == "cap"; })) {
+    conditions.push_back("no cap planner in [coevaluation] " + key);
   }
   return conditions;
 }

@@ -197,7 +197,7 @@ std::vector<std::string> write_beacon_noise_figures(const experiment::Experiment
 // every beacon noise: the paired differences of the same trials (gd_gauss_matched's
 // paired_travel_diff_m and paired_iterations_diff), mean and 95% CI.
 std::string matched_error_section(const std::vector<SummaryRow>& rows, const std::vector<double>& values) {
-  const std::string ekf = to_string(CoevalAlgorithm::kGdEkf), gauss = to_string(CoevalAlgorithm::kGdGaussMatched);
+  const std::string ekf = "gd_ekf", gauss = "gd_gauss_matched";
   std::ostringstream md;
   md << "\n### Integrating the estimator at matched error\n\n"
      << "`" << gauss << "` runs the paper's GD with sigma_loc = `" << ekf << "`'s measured lateral RMSE / sqrt(2) "
@@ -300,7 +300,7 @@ std::string nv_sinr_loss_section(const experiment::ExperimentSettings& s, const 
   bool have_ceres = false;
   for (const std::string& a : algorithms) {
     double loss = 0.0, ci = 0.0;
-    if (loss_of(a, &loss, &ci) && a == to_string(CoevalAlgorithm::kGdEkfCeres)) {
+    if (loss_of(a, &loss, &ci) && a == std::string("gd_ekf_ceres")) {
       have_ceres = true;
       ceres_loss = loss;
       ceres_ci = ci;
@@ -414,7 +414,7 @@ std::string outage_report_section(const experiment::ExperimentSettings& s, const
     }
   }
   const double kmax = *std::max_element(values.begin(), values.end());
-  if (const SummaryRow* r = find_row(rows, kSweepBeaconOutage, kmax, to_string(CoevalAlgorithm::kGdEkf))) {
+  if (const SummaryRow* r = find_row(rows, kSweepBeaconOutage, kmax, std::string("gd_ekf"))) {
     md << "\nWith " << fmt(kmax, 0) << " UAVs without beacon, GD + EKF with BF fallback reached ICN "
        << fmt(s.placement.run.target_icn) << " in " << converged(*r) << " trials.\n";
   }

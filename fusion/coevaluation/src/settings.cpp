@@ -9,6 +9,7 @@
 #include "losmimo/common/format.h"
 #include "losmimo/common/ini_config.h"
 #include "losmimo/common/input_error.h"
+#include "losmimo/common/text.h"
 #include "losmimo/fusion/closed_loop_settings.h"
 #include "losmimo/placement/settings.h"
 
@@ -20,46 +21,35 @@ using common::InputError;
 using common::split_list;
 const std::string kSection = "coevaluation";
 
-constexpr CoevalAlgorithm kAll[] = {CoevalAlgorithm::kGdGauss,     CoevalAlgorithm::kGdGaussMatched,
-                                    CoevalAlgorithm::kGdEkf,       CoevalAlgorithm::kGdEkfNoFallback,
-                                    CoevalAlgorithm::kGdPf,        CoevalAlgorithm::kGdEkfCeres,
-                                    CoevalAlgorithm::kBf,          CoevalAlgorithm::kUraEkf,
-                                    CoevalAlgorithm::kCentralized, CoevalAlgorithm::kCapEkf};
-// The outage sweep runs the closed loop only: the point is what the fallback does.
-constexpr CoevalAlgorithm kOutageAllowed[] = {CoevalAlgorithm::kGdEkf, CoevalAlgorithm::kGdEkfNoFallback,
-                                              CoevalAlgorithm::kGdPf, CoevalAlgorithm::kGdEkfCeres};
-
-std::string names(const CoevalAlgorithm* first, const CoevalAlgorithm* last) {
-  std::string out;
-  for (const CoevalAlgorithm* a = first; a != last; ++a) out += (out.empty() ? "" : ", ") + to_string(*a);
-  return out;
-}
-
-// "a, b, ..." of the algorithms in `allowed`, each once, at least one.
-template <std::size_t N>
-std::vector<CoevalAlgorithm> parse_algorithms(const std::string& text, const std::string& where,
-                                              const CoevalAlgorithm (&allowed)[N]) {
-  std::vector<CoevalAlgorithm> out;
-  for (const std::string& name : split_list(text)) {
-    const auto* it =
-        std::find_if(std::begin(allowed), std::end(allowed), [&](CoevalAlgorithm a) { return to_string(a) == name; });
-    if (it == std::end(allowed)) {
-      throw InputError(where + ": unknown algorithm '" + name +
-                       "' (known: " + names(std::begin(allowed), std::end(allowed)) + ")");
-    }
-    if (std::find(out.begin(), out.end(), *it) != out.end()) {
-      throw InputError(where + ": algorithm '" + name + "' listed twice");
-    }
-    out.push_back(*it);
-  }
+// "a, b, ..." rows (aliases or planner+estimator), at least one; resolved and checked by
+// load_coevaluation_settings (resolve_rows), once ura_variant is known.
+std::vector<CoevalRow> parse_rows(const std::string& text, const std::string& where) {
+  std::vector<CoevalRow> out;
+  for (const std::string& name : split_list(text)) out.push_back(parse_row(name, where));
   if (out.empty()) throw InputError(where + ": needs at least one algorithm");
   return out;
 }
 
-std::string algorithm_list(const std::vector<CoevalAlgorithm>& algorithms) {
-  std::string out;
-  for (const CoevalAlgorithm a : algorithms) out += (out.empty() ? "" : ", ") + to_string(a);
-  return out;
+std::string row_list(const std::vector<CoevalRow>& rows) {
+  std::vector<std::string> names;
+  for (const CoevalRow& r : rows) names.push_back(r.name);
+  return common::join(names);
+}
+
+std::string alias_list() {
+  std::vector<std::string> names;
+  for (const RowAlias& a : row_aliases()) names.push_back(a.alias);
+  return common::join(names);
+}
+
+// The outage sweep runs gd's closed loop only: the point is what the fallback does.
+void require_closed_loop(const std::vector<CoevalRow>& rows, const std::string& field) {
+  for (const CoevalRow& r : rows) {
+    if (r.planner != "gd" || !estimator_entry(r.estimator).closed_loop) {
+      throw common::FieldError(field, r.name +
+                       ": the outage sweep runs gd's closed loop (gd with ekf, ekf_nofallback, pf or ekf_ceres)");
+    }
+  }
 }
 
 // The [closed_loop] keys the co-evaluation reads, with the spellings [coevaluation] had for them.
@@ -76,10 +66,11 @@ std::vector<common::Key<CoevaluationSettings>> coevaluation_key_list() {
       K::text(
           kSection, "algorithms",
           [](CoevaluationSettings& c, const std::string& text, const std::string& where) {
-            c.algorithms = parse_algorithms(text, where, kAll);
+            c.algorithms = parse_rows(text, where);
           },
-          [](const CoevaluationSettings& c) { return algorithm_list(c.algorithms); },
-          "comma-separated: " + names(std::begin(kAll), std::end(kAll)), "beacon_noise_m's algorithms", "gd_ekf, bf"),
+          [](const CoevaluationSettings& c) { return row_list(c.algorithms); },
+          "comma-separated: " + alias_list() + ", or planner+estimator", "beacon_noise_m's rows (planner, estimator)",
+          "gd_ekf, bf"),
       K::text(
           kSection, "ura_variant",
           [](CoevaluationSettings& c, const std::string& text, const std::string&) {
@@ -100,11 +91,11 @@ std::vector<common::Key<CoevaluationSettings>> coevaluation_key_list() {
       K::text(
           kSection, "outage_algorithms",
           [](CoevaluationSettings& c, const std::string& text, const std::string& where) {
-            c.outage_algorithms = parse_algorithms(text, where, kOutageAllowed);
+            c.outage_algorithms = parse_rows(text, where);
           },
-          [](const CoevaluationSettings& c) { return algorithm_list(c.outage_algorithms); },
-          "comma-separated: " + names(std::begin(kOutageAllowed), std::end(kOutageAllowed)),
-          "beacon_outage's algorithms", "gd_pf"),
+          [](const CoevaluationSettings& c) { return row_list(c.outage_algorithms); },
+          "comma-separated: gd_ekf, gd_ekf_nofallback, gd_pf, gd_ekf_ceres (gd with a filter estimator)",
+          "beacon_outage's rows", "gd_pf"),
       K::integer(kSection, "outage_first_epoch", &CoevaluationSettings::outage_first_epoch, 0, 1'000'000,
                  "first epoch without beacon", "3"),
       K::integer(kSection, "outage_epochs", &CoevaluationSettings::outage_epochs, 0, 1'000'000, "epochs without beacon",
@@ -123,32 +114,6 @@ std::vector<common::Key<CoevaluationSettings>> coevaluation_key_list() {
 
 }  // namespace
 
-std::string to_string(CoevalAlgorithm a) {
-  switch (a) {
-    case CoevalAlgorithm::kGdGauss:
-      return "gd_gauss";
-    case CoevalAlgorithm::kGdGaussMatched:
-      return "gd_gauss_matched";
-    case CoevalAlgorithm::kGdEkf:
-      return "gd_ekf";
-    case CoevalAlgorithm::kGdEkfNoFallback:
-      return "gd_ekf_nofallback";
-    case CoevalAlgorithm::kGdPf:
-      return "gd_pf";
-    case CoevalAlgorithm::kGdEkfCeres:
-      return "gd_ekf_ceres";
-    case CoevalAlgorithm::kBf:
-      return "bf";
-    case CoevalAlgorithm::kUraEkf:
-      return "ura_ekf";
-    case CoevalAlgorithm::kCentralized:
-      return "centralized";
-    case CoevalAlgorithm::kCapEkf:
-      return "cap_ekf";
-  }
-  return "?";
-}
-
 const common::KeyTable<CoevaluationSettings>& coevaluation_keys() {
   static const common::KeyTable<CoevaluationSettings> table = [] {
     common::KeyTable<CoevaluationSettings> t(coevaluation_key_list());
@@ -164,28 +129,35 @@ CoevaluationSettings load_coevaluation_settings(const experiment::ExperimentSett
   const common::IniConfig& cfg = settings.config;
   const placement::Scenario& scenario = settings.placement.scenario;
   const common::KeyTable<CoevaluationSettings>& keys = coevaluation_keys();
+  register_coevaluation_planners();
   CoevaluationSettings c;
   keys.load(cfg, c);
   if (settings.sweep(kSweepBeaconNoise) || settings.sweep(kSweepBeaconOutage)) {
     placement::require_los_channel(settings.placement.channel, cfg, "co-evaluation");
   }
   // centralized solves eq. 4 for its target ICN alpha, which must be below 1 (fusion/centralized.h).
-  const bool has_centralized =
-      std::find(c.algorithms.begin(), c.algorithms.end(), CoevalAlgorithm::kCentralized) != c.algorithms.end();
+  const bool has_centralized = std::any_of(c.algorithms.begin(), c.algorithms.end(),
+                                           [](const CoevalRow& r) { return r.planner == "centralized"; });
   if (settings.sweep(kSweepBeaconNoise) && has_centralized && !(settings.placement.run.target_icn < 1.0)) {
     throw InputError(cfg.where("placement", "target_icn") + ": " +
                      common::format_double(settings.placement.run.target_icn) +
                      ": the beacon_noise_m sweep's centralized solution needs a target ICN below 1");
   }
   keys.check(cfg, "", [&] {
+    // The rows: ura_ekf's URA from ura_variant, every pair as its estimator allows.
+    resolve_rows(c.algorithms, c.ura_variant, "algorithms");
+    resolve_rows(c.outage_algorithms, c.ura_variant, "outage_algorithms");
+    require_closed_loop(c.outage_algorithms, "outage_algorithms");
     // The shared closed-loop settings by the closed loop's own rules.
     common::with_field_prefix("closed_loop", [&] { fusion::validate(c.closed_loop); });
-    const bool has_ura =
-        std::find(c.algorithms.begin(), c.algorithms.end(), CoevalAlgorithm::kUraEkf) != c.algorithms.end();
-    if (settings.sweep(kSweepBeaconNoise) && has_ura && scenario.num_uavs != scenario.num_bs_antennas()) {
-      throw common::FieldError("algorithms", "ura_ekf needs scenario.num_uavs = bs_rows * bs_cols (" +
-                                                 std::to_string(scenario.num_bs_antennas()) + "), got " +
-                                                 std::to_string(scenario.num_uavs));
+    for (const CoevalRow& row : c.algorithms) {
+      const std::vector<std::string>& own = placement::planner_entry(row.planner).sections;
+      const bool ura = std::find(own.begin(), own.end(), "ura") != own.end();
+      if (settings.sweep(kSweepBeaconNoise) && ura && scenario.num_uavs != scenario.num_bs_antennas()) {
+        throw common::FieldError("algorithms", row.name + " needs scenario.num_uavs = bs_rows * bs_cols (" +
+                                                   std::to_string(scenario.num_bs_antennas()) + "), got " +
+                                                   std::to_string(scenario.num_uavs));
+      }
     }
     // Checked with or without the sweep when given; the default only when the sweep runs.
     if (cfg.has(kSection, "outage_values") || settings.sweep(kSweepBeaconOutage)) {

@@ -1,5 +1,7 @@
 #include "losmimo/common/input_error.h"
 
+#include "losmimo/common/text.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -8,17 +10,8 @@
 
 namespace losmimo::common {
 
-namespace {
-std::string trimmed(const std::string& s) {
-  const auto not_space = [](unsigned char c) { return !std::isspace(c); };
-  const auto b = std::find_if(s.begin(), s.end(), not_space);
-  const auto e = std::find_if(s.rbegin(), s.rend(), not_space).base();
-  return b < e ? std::string(b, e) : std::string();
-}
-}  // namespace
-
 double parse_double(const std::string& text, const std::string& where, const std::string& field) {
-  const std::string t = trimmed(text);
+  const std::string t = trim(text);
   char* end = nullptr;
   errno = 0;
   const double v = t.empty() ? 0.0 : std::strtod(t.c_str(), &end);
@@ -30,7 +23,7 @@ double parse_double(const std::string& text, const std::string& where, const std
 
 long long parse_integer(const std::string& text, const std::string& where, long long lo, long long hi,
                         const std::string& field) {
-  const std::string t = trimmed(text);
+  const std::string t = trim(text);
   char* end = nullptr;
   errno = 0;
   const long long v = t.empty() ? 0 : std::strtoll(t.c_str(), &end, 10);
@@ -45,7 +38,7 @@ long long parse_integer(const std::string& text, const std::string& where, long 
 }
 
 bool parse_bool(const std::string& text, const std::string& where, const std::string& field) {
-  std::string t = trimmed(text);
+  std::string t = trim(text);
   std::transform(t.begin(), t.end(), t.begin(), [](unsigned char c) { return std::tolower(c); });
   if (t == "true" || t == "1" || t == "yes" || t == "on") return true;
   if (t == "false" || t == "0" || t == "no" || t == "off") return false;

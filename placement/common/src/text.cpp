@@ -12,4 +12,13 @@ std::string trim(const std::string& text) {
   return text.substr(b, e - b);
 }
 
+std::string join(const std::vector<std::string>& items, const std::string& separator) {
+  std::string out;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (i > 0) out += separator;
+    out += items[i];
+  }
+  return out;
+}
+
 }  // namespace losmimo::common

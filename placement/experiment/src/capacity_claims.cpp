@@ -44,7 +44,7 @@ std::string sweep_table(const ExperimentSettings& s, const SweepPoints& sweep, c
     << "| " << sweep.name << " | algorithm | C / C_max | translation median [m] | p95 [m] | max [m] | max / d_r "
     << "| converged |\n|---|---|---|---|---|---|---|---|\n";
   for (const double v : sweep.values) {
-    for (const Algorithm a : s.algorithms) {
+    for (const Algorithm& a : s.algorithms) {
       const SummaryRow* row = find_row(rows, sweep.name, v, to_string(a));
       if (!row) continue;
       o << "| " << common::format_double(v) << " | " << to_string(a) << " | " << cell(row, kCapacityFraction, 3)

@@ -41,7 +41,7 @@ double mean(const std::vector<SummaryRow>& rows, const std::string& sweep, doubl
   return e ? e->mean : std::nan("");
 }
 
-bool runs(const ExperimentSettings& s, Algorithm a) {
+bool runs(const ExperimentSettings& s, const Algorithm& a) {
   return std::find(s.algorithms.begin(), s.algorithms.end(), a) != s.algorithms.end();
 }
 
@@ -95,7 +95,7 @@ std::string setup_line(const ExperimentSettings& s, const std::string& sweep) {
 template <typename F>
 std::string per_mover(const ExperimentSettings& s, F f) {
   std::string out;
-  for (const Algorithm a : {Algorithm::kGd, Algorithm::kBf}) {
+  for (const Algorithm& a : {Algorithm::kGd, Algorithm::kBf}) {
     if (runs(s, a)) out += (out.empty() ? "" : ", ") + to_string(a) + " " + f(to_string(a));
   }
   return out;
@@ -124,7 +124,7 @@ std::string rician_claims(const ExperimentSettings& s, const std::vector<Summary
   int held = 0, points = 0;
   for (const double k : finite) {
     bool all = true;
-    for (const Algorithm a : {Algorithm::kGd, Algorithm::kBf}) {
+    for (const Algorithm& a : {Algorithm::kGd, Algorithm::kBf}) {
       if (!runs(s, a)) continue;
       const double gain = mean(rows, S, k, to_string(a), zf) / mean(rows, S, k, "random", zf);
       const double vs_ura =
@@ -188,7 +188,7 @@ std::string csi_claims(const ExperimentSettings& s, const std::vector<SummaryRow
   double robust_from = kInf;
   for (auto it = finite.rbegin(); it != finite.rend(); ++it) {
     bool all = true;
-    for (const Algorithm a : {Algorithm::kGd, Algorithm::kBf}) {
+    for (const Algorithm& a : {Algorithm::kGd, Algorithm::kBf}) {
       if (runs(s, a))
         all = all && mean(rows, S, *it, to_string(a), zf) >= kCloseToUra * mean(rows, S, kInf, to_string(a), zf);
     }
@@ -264,7 +264,7 @@ void bs_claims_gain_and_travel(std::ostream& o, const ExperimentSettings& s, con
     return mean(rows, S, big, a, m) / mean(rows, S, big, "random", m);
   };
   bool zf_holds = true, nv_holds = true;
-  for (const Algorithm a : {Algorithm::kGd, Algorithm::kBf}) {
+  for (const Algorithm& a : {Algorithm::kGd, Algorithm::kBf}) {
     if (!runs(s, a)) continue;
     zf_holds = zf_holds && gain(to_string(a), zf) >= kSignificantGain;
     nv_holds = nv_holds && gain(to_string(a), nv) >= kSignificantGain;
@@ -317,7 +317,7 @@ std::vector<std::string> write_channel_sweep_figure(const ExperimentSettings& s,
   const std::vector<MetricId> plotted = {metrics::kSumRateZfBpsHz, metrics::kSumRateNvBpsHz, kFinalIcnLos,
                                          metrics::kDistTotalM};
   std::ostringstream dat;
-  for (const Algorithm a : s.algorithms) {
+  for (const Algorithm& a : s.algorithms) {
     dat << "# algorithm " << to_string(a) << ": x";
     for (const MetricId m : plotted) dat << " " << m.name << "_mean " << m.name << "_ci95";
     dat << " converged_fraction\n";
@@ -389,7 +389,7 @@ std::string channel_sweep_report_section(const ExperimentSettings& s, const std:
      << " | algorithm | ZF sum rate | NV sum rate | ICN | LoS ICN | distance [m] | converged |\n"
      << "|---|---|---|---|---|---|---|---|\n";
   for (const double v : p->values) {
-    for (const Algorithm a : s.algorithms) {
+    for (const Algorithm& a : s.algorithms) {
       const SummaryRow* r = find_row(rows, sweep, v, to_string(a));
       if (!r) continue;
       const auto cell = [&](MetricId m, int decimals) {

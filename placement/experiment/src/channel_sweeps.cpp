@@ -56,7 +56,7 @@ std::vector<common::Key<ChannelSweepSettings>> channel_sweep_key_list() {
 }
 
 bool runs_a_ura(const ExperimentSettings& s) {
-  return std::any_of(s.algorithms.begin(), s.algorithms.end(), [](Algorithm a) {
+  return std::any_of(s.algorithms.begin(), s.algorithms.end(), [](const Algorithm& a) {
     return a == Algorithm::kUra || a == Algorithm::kUraLattice || a == Algorithm::kUraLatticeExact;
   });
 }
@@ -115,7 +115,7 @@ std::vector<TrialRecord> run_channel_sweep_trial(const ExperimentSettings& s, co
   placement::RunOptions run = p.run;
   run.full_icn_trace = false;  // only milestones and the final positions are recorded
   std::vector<TrialRecord> records;
-  for (const Algorithm a : s.algorithms) {
+  for (const Algorithm& a : s.algorithms) {
     const placement::RunResult r = run_algorithm(s, p, a, trial, start, seed, run);
     placement::FadedLinkMetrics m;
     TrialRecord rec = make_record(s, p, sweep, point, trial, to_string(a), r, &m);

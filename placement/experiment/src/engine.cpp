@@ -19,16 +19,39 @@ struct PointTask {
   const SweepPoints* sweep;
   int point;
   const ExperimentExtension* extension;  // nullptr: a built-in sweep
+  const ExperimentExtension::TrialFn* run;  // the extension's trial function, bound once per run
 };
 
-std::vector<PointTask> point_tasks(const ExperimentSettings& s, const ExperimentExtensions& extensions) {
+// The extensions' trial functions, one per enabled extension sweep, bound to `s` once
+// (ExperimentExtension::bind, else run).
+std::vector<ExperimentExtension::TrialFn> bind_extensions(const ExperimentSettings& s,
+                                                          const ExperimentExtensions& extensions) {
+  std::vector<ExperimentExtension::TrialFn> bound;
+  for (const ExperimentExtension& e : extensions) {
+    if (!s.sweep(e.sweep)) {
+      bound.emplace_back();
+    } else if (e.bind) {
+      bound.push_back(e.bind(s));
+    } else {
+      bound.emplace_back([&s, &e](int point, int trial) { return e.run(s, point, trial); });
+    }
+  }
+  return bound;
+}
+
+std::vector<PointTask> point_tasks(const ExperimentSettings& s, const ExperimentExtensions& extensions,
+                                   const std::vector<ExperimentExtension::TrialFn>& bound) {
   std::vector<PointTask> tasks;
   for (const SweepPoints& sweep : s.sweeps) {
     const ExperimentExtension* extension = nullptr;
-    for (const ExperimentExtension& e : extensions) {
-      if (e.sweep == sweep.name) extension = &e;
+    const ExperimentExtension::TrialFn* run = nullptr;
+    for (std::size_t k = 0; k < extensions.size(); ++k) {
+      if (extensions[k].sweep == sweep.name) {
+        extension = &extensions[k];
+        run = &bound[k];
+      }
     }
-    for (int i = 0; i < static_cast<int>(sweep.values.size()); ++i) tasks.push_back({&sweep, i, extension});
+    for (int i = 0; i < static_cast<int>(sweep.values.size()); ++i) tasks.push_back({&sweep, i, extension, run});
   }
   return tasks;
 }
@@ -106,7 +129,8 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
     throw std::invalid_argument("run_experiment: shard " + std::to_string(slice.shard_index) + "/" +
                                 std::to_string(slice.shard_count) + " is not in 0..N-1");
   }
-  const std::vector<PointTask> points = point_tasks(s, extensions);
+  const std::vector<ExperimentExtension::TrialFn> bound = bind_extensions(s, extensions);
+  const std::vector<PointTask> points = point_tasks(s, extensions, bound);
   const std::vector<std::string> extension_names = extension_metric_names(s, extensions);
   const int trials = s.trials;
   const int num_threads = std::max(1, threads);
@@ -128,7 +152,7 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
       const int job = jobs[i];
       const PointTask& task = points[job / trials];
       try {
-        slots[job] = task.extension ? task.extension->run(s, task.point, job % trials)
+        slots[job] = task.extension ? (*task.run)(task.point, job % trials)
                                     : run_trial(s, task.sweep->name, task.point, job % trials, &seed_free);
         for (TrialRecord& r : slots[job]) fill_extra_columns(s, task.extension, extension_names, r);
       } catch (...) {
@@ -177,7 +201,7 @@ ExperimentResults run_experiment(const ExperimentSettings& s, const ExperimentEx
 
 namespace {
 bool has_builtin_sweep(const ExperimentSettings& s) { return s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct); }
-bool is_traced(Algorithm a) { return a == Algorithm::kGd || a == Algorithm::kBf; }
+bool is_traced(const Algorithm& a) { return a == Algorithm::kGd || a == Algorithm::kBf; }
 }  // namespace
 
 bool records_paths(const ExperimentSettings& s) {
@@ -188,7 +212,7 @@ bool records_paths(const ExperimentSettings& s) {
 std::vector<TracedRun> traced_runs(const ExperimentSettings& s) {
   std::vector<TracedRun> traces;
   const bool builtin = has_builtin_sweep(s);
-  for (const Algorithm a : s.algorithms) {
+  for (const Algorithm& a : s.algorithms) {
     if (!builtin || !is_traced(a)) continue;
     for (int t = 0; t < s.fig1_trials; ++t) traces.push_back({a, t, run_traced(s, a, t, s.paths && t == 0)});
   }
@@ -196,7 +220,7 @@ std::vector<TracedRun> traced_runs(const ExperimentSettings& s) {
   const SweepPoints* act = s.sweep(kSweepSigmaAct);
   if (s.paths && s.fig1_trials > 0 && act) {
     const double sigma = *std::max_element(act->values.begin(), act->values.end());
-    for (const Algorithm a : s.algorithms) {
+    for (const Algorithm& a : s.algorithms) {
       if (sigma > 0.0 && is_traced(a)) traces.push_back({a, 0, run_path(s, a, 0, sigma), sigma});
     }
   }

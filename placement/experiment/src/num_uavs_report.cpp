@@ -50,7 +50,7 @@ double mean_of(const SummaryRow* row, MetricId id) {
 }
 
 // Seconds per iteration of (point, algorithm) in this process, NaN when untimed or 0 iterations.
-double seconds_per_iteration(const NumUavsTiming& timing, int point, Algorithm a) {
+double seconds_per_iteration(const NumUavsTiming& timing, int point, const Algorithm& a) {
   const std::unique_ptr<NumUavsTiming::Entry> e = timing.find(point, to_string(a));
   return e && e->iterations > 0 ? e->wall_s / static_cast<double>(e->iterations) : std::nan("");
 }
@@ -76,7 +76,7 @@ std::string log_xrange(const SweepPoints& p) {
 void write_metrics_figure(const ExperimentSettings& s, const SweepPoints& p, const std::vector<SummaryRow>& rows,
                           const fs::path& dir) {
   std::ostringstream dat;
-  for (const Algorithm a : s.algorithms) {
+  for (const Algorithm& a : s.algorithms) {
     dat << "# algorithm " << to_string(a) << ": num_uavs";
     for (const auto& [m, title] : panels()) dat << " " << m.name << "_mean " << m.name << "_ci95";
     dat << " converged_fraction\n";
@@ -113,7 +113,7 @@ void write_metrics_figure(const ExperimentSettings& s, const SweepPoints& p, con
 void write_timing_figure(const ExperimentSettings& s, const SweepPoints& p, const NumUavsTiming& timing,
                          const fs::path& dir) {
   std::ostringstream dat;
-  for (const Algorithm a : s.algorithms) {
+  for (const Algorithm& a : s.algorithms) {
     dat << "# algorithm " << to_string(a) << ": num_uavs seconds_per_iteration\n";
     for (std::size_t i = 0; i < p.values.size(); ++i) {
       dat << csv(p.values[i]) << " " << csv(seconds_per_iteration(timing, static_cast<int>(i), a)) << "\n";
@@ -141,7 +141,7 @@ std::string results_table(const ExperimentSettings& s, const SweepPoints& p, con
   for (const double v : p.values) {
     const int n = static_cast<int>(v);
     const int nt = num_uavs_scenario(s.placement.scenario, c.array, n).num_bs_antennas();
-    for (const Algorithm a : s.algorithms) {
+    for (const Algorithm& a : s.algorithms) {
       const SummaryRow* r = find_row(rows, v, to_string(a));
       o << "| " << n << " | " << nt << " | " << to_string(a) << " | ";
       if (!r) {
@@ -185,7 +185,7 @@ std::string timing_table(const ExperimentSettings& s, const SweepPoints& p, cons
        "|\n|---|---|---|---|---|\n";
   bool any = false;
   for (std::size_t i = 0; i < p.values.size(); ++i) {
-    for (const Algorithm a : s.algorithms) {
+    for (const Algorithm& a : s.algorithms) {
       const std::unique_ptr<NumUavsTiming::Entry> e = timing.find(static_cast<int>(i), to_string(a));
       if (!e) continue;
       any = true;

@@ -82,7 +82,7 @@ placement::Scenario num_uavs_scenario(const placement::Scenario& base, NumUavsAr
   return sc;
 }
 
-bool runs_at(const NumUavsSweepSettings& sweep, Algorithm a, int num_uavs) {
+bool runs_at(const NumUavsSweepSettings& sweep, const Algorithm& a, int num_uavs) {
   return a != Algorithm::kCap || num_uavs <= sweep.cap_max_uavs;
 }
 
@@ -130,7 +130,7 @@ std::vector<TrialRecord> run_num_uavs_trial(const ExperimentSettings& s, const N
   placement::RunOptions run = p.run;
   run.full_icn_trace = false;  // only milestones and the final positions are recorded
   std::vector<TrialRecord> records;
-  for (const Algorithm a : s.algorithms) {
+  for (const Algorithm& a : s.algorithms) {
     if (!runs_at(sweep, a, num_uavs)) continue;
     const auto t0 = std::chrono::steady_clock::now();
     const placement::RunResult r = run_algorithm(s, p, a, trial, start, seed, run);

@@ -34,23 +34,30 @@ int point_index(const ExperimentSettings& s, const std::string& sweep, double va
   return -1;
 }
 
-// The algorithms a reading can change: its keys' sections [gd], [bf], [ura], [cap] name one (their
-// planner options and stop rules reach no other planner); any other section, all of them.
-bool changes(const ReadingSpec& r, Algorithm a) {
+// Whether some registered planner owns `section` (PlannerEntry::sections).
+bool planner_section(const std::string& section) {
+  for (const std::string& name : placement::planner_names()) {
+    const std::vector<std::string>& own = placement::planner_entry(name).sections;
+    if (std::find(own.begin(), own.end(), section) != own.end()) return true;
+  }
+  return false;
+}
+
+// The algorithms a reading can change: a key of a planner's own section ([gd], [bf], [ura],
+// [cap]) changes the planners owning it (its options and stop rules reach no other planner); a
+// key of any other section, all of them.
+bool changes(const ReadingSpec& r, const Algorithm& a) {
+  const std::vector<std::string>& own = a.entry().sections;
   for (const auto& [name, value] : r.assignments) {
     const std::string section = name.substr(0, name.find('.'));
-    if (section == "gd" && a != Algorithm::kGd) continue;
-    if (section == "bf" && a != Algorithm::kBf) continue;
-    if (section == "cap" && a != Algorithm::kCap) continue;
-    if (section == "ura" && a != Algorithm::kUra && a != Algorithm::kUraLattice && a != Algorithm::kUraLatticeExact)
-      continue;
+    if (planner_section(section) && std::find(own.begin(), own.end(), section) == own.end()) continue;
     return true;
   }
   return false;
 }
 
 bool has_algorithm(const ExperimentSettings& s, const std::string& name) {
-  return std::any_of(s.algorithms.begin(), s.algorithms.end(), [&](Algorithm a) { return to_string(a) == name; });
+  return std::any_of(s.algorithms.begin(), s.algorithms.end(), [&](const Algorithm& a) { return to_string(a) == name; });
 }
 
 }  // namespace
@@ -122,7 +129,7 @@ std::vector<std::vector<TrialRecord>> run_reading_jobs(const ExperimentSettings&
       try {
         ExperimentSettings here = configs[c];
         here.algorithms.clear();
-        for (const Algorithm a : point.algorithms) {
+        for (const Algorithm& a : point.algorithms) {
           if (c == 0 || changes(s.readings[c - 1], a)) here.algorithms.push_back(a);
         }
         if (!here.algorithms.empty()) slots[j] = run_trial(here, point.sweep, point.point, trial);

@@ -26,25 +26,7 @@ std::string fmt(double v, int precision = 3) { return common::format_fixed(v, pr
 
 }  // namespace
 
-const char* algorithm_color(Algorithm a) {
-  switch (a) {
-    case Algorithm::kGd:
-      return "#1f77b4";
-    case Algorithm::kBf:
-      return "#d62728";
-    case Algorithm::kUra:
-      return "#2ca02c";
-    case Algorithm::kUraLattice:
-      return "#ff7f0e";
-    case Algorithm::kUraLatticeExact:
-      return "#9467bd";
-    case Algorithm::kCap:
-      return "#8c564b";
-    case Algorithm::kRandom:
-      return "#7f7f7f";
-  }
-  return "#000000";
-}
+const char* algorithm_color(const Algorithm& a) { return a.entry().plot_color.c_str(); }
 
 std::vector<PaperValue> paper_values() {
   const std::string R = "random", GD = "gd", BF = "bf", URA = "ura";
@@ -180,7 +162,7 @@ std::string abstract_claims(const ExperimentSettings& s, const std::vector<Summa
      << "| algorithm | NV sum rate / random | NV SINR gain over random [dB] |\n|---|---|---|\n";
   const Estimate* r_rate = random0->metric(metrics::kSumRateNvBpsHz);
   const Estimate* r_sinr = random0->metric(metrics::kSinrNvDb);
-  for (const Algorithm a : s.algorithms) {
+  for (const Algorithm& a : s.algorithms) {
     if (a == Algorithm::kRandom) continue;
     const SummaryRow* row = report_parts::find_row(rows, kSweepSigmaLoc, loc->values.front(), to_string(a));
     if (!row) continue;

@@ -106,7 +106,7 @@ const SummaryRow* find_row(const std::vector<SummaryRow>& rows, const std::strin
 std::string sweep_dat(const std::vector<SummaryRow>& rows, const std::string& sweep,
                       const std::vector<Algorithm>& algorithms, const std::vector<MetricId>& metrics) {
   std::ostringstream o;
-  for (const Algorithm a : algorithms) {
+  for (const Algorithm& a : algorithms) {
     o << "# algorithm " << to_string(a) << ": value";
     for (const MetricId m : metrics) o << " " << m.name << "_mean " << m.name << "_ci95";
     o << "\n";
@@ -139,7 +139,7 @@ std::vector<std::string> write_builtin_figures(const ExperimentSettings& s, cons
                                                const std::vector<SummaryRow>& rows, const std::string& out_dir) {
   const fs::path dir(out_dir);
   std::vector<Algorithm> movers;
-  for (const Algorithm a : s.algorithms) {
+  for (const Algorithm& a : s.algorithms) {
     if (a != Algorithm::kRandom) movers.push_back(a);
   }
   std::vector<std::string> stems = write_fig1(results.traces, dir);

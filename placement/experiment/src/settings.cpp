@@ -14,44 +14,34 @@
 namespace losmimo::experiment {
 
 namespace {
-constexpr Algorithm kAllAlgorithms[] = {Algorithm::kRandom, Algorithm::kGd,         Algorithm::kBf,
-                                        Algorithm::kUra,    Algorithm::kUraLattice, Algorithm::kUraLatticeExact,
-                                        Algorithm::kCap};
-
 const ExperimentExtension* find_extension(const ExperimentExtensions& extensions, const std::string& sweep) {
   for (const ExperimentExtension& e : extensions) {
     if (e.sweep == sweep) return &e;
   }
   return nullptr;
 }
+
+// The planners [experiment] algorithms may list: the iterative ones, in registration order.
+std::vector<std::string> iterative_planner_names() {
+  std::vector<std::string> names;
+  for (const std::string& name : placement::planner_names()) {
+    if (!placement::planner_entry(name).direct()) names.push_back(name);
+  }
+  return names;
+}
 }  // namespace
 
-std::string to_string(Algorithm a) {
-  switch (a) {
-    case Algorithm::kRandom:
-      return "random";
-    case Algorithm::kGd:
-      return "gd";
-    case Algorithm::kBf:
-      return "bf";
-    case Algorithm::kUra:
-      return "ura";
-    case Algorithm::kUraLattice:
-      return "ura_lattice";
-    case Algorithm::kUraLatticeExact:
-      return "ura_lattice_exact";
-    case Algorithm::kCap:
-      return "cap";
-  }
-  return "?";
-}
-
 Algorithm algorithm_from_string(const std::string& name, const std::string& where) {
-  for (const Algorithm a : kAllAlgorithms) {
-    if (to_string(a) == name) return a;
+  const placement::PlannerEntry* e = placement::find_planner(name);
+  if (e && e->direct()) {
+    throw common::InputError(where + ": '" + name +
+                             "' computes its placement at once: it runs in [coevaluation] algorithms only");
   }
-  throw common::InputError(where + ": unknown algorithm '" + name +
-                           "' (known: random, gd, bf, ura, ura_lattice, ura_lattice_exact, cap)");
+  if (!e) {
+    throw common::InputError(where + ": unknown algorithm '" + name + "' (known: " +
+                             common::join(iterative_planner_names()) + ")");
+  }
+  return Algorithm(name);
 }
 
 std::string ReadingSpec::text() const {
@@ -181,9 +171,9 @@ std::vector<common::Key<ExperimentSettings>> experiment_key_list() {
             if (s.algorithms.empty()) throw common::InputError(where + ": needs at least one algorithm");
           },
           [](const ExperimentSettings& s) {
-            return join_names(s.algorithms, [](Algorithm a) { return to_string(a); });
+            return join_names(s.algorithms, [](const Algorithm& a) { return to_string(a); });
           },
-          "comma-separated: random, gd, bf, ura, ura_lattice, ura_lattice_exact, cap",
+          "comma-separated: " + common::join(iterative_planner_names()),
           "the built-in sweeps' algorithms (default: all but ura_lattice_exact and cap)", "gd, bf"),
       K::integer("experiment", "fig1_trials", &ExperimentSettings::fig1_trials, 0, 10000,
                  "traced runs per algorithm for Fig 1 (no errors)", "2"),
@@ -261,7 +251,7 @@ ExperimentSettings load_experiment_settings(const common::IniConfig& cfg, const 
       return points &&
              std::any_of(points->values.begin(), points->values.end(), [&](double v) { return v == p.value; }) &&
              std::any_of(s.algorithms.begin(), s.algorithms.end(),
-                         [&](Algorithm a) { return to_string(a) == p.algorithm; });
+                         [&](const Algorithm& a) { return to_string(a) == p.algorithm; });
     };
     const std::vector<PaperValue> paper = paper_values();
     if (!s.readings.empty() && std::none_of(paper.begin(), paper.end(), measurable)) {
@@ -270,7 +260,7 @@ ExperimentSettings load_experiment_settings(const common::IniConfig& cfg, const 
                                "a point such as 0, with random, gd, bf or ura): this run has none of them");
     }
     const bool builtin = s.sweep(kSweepSigmaLoc) || s.sweep(kSweepSigmaAct);
-    const auto ura = std::find_if(s.algorithms.begin(), s.algorithms.end(), [](Algorithm a) {
+    const auto ura = std::find_if(s.algorithms.begin(), s.algorithms.end(), [](const Algorithm& a) {
       return a == Algorithm::kUra || a == Algorithm::kUraLattice || a == Algorithm::kUraLatticeExact;
     });
     const placement::Scenario& sc = s.placement.scenario;

@@ -18,13 +18,6 @@ namespace losmimo::experiment {
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Placement without motion: the start itself, evaluated like any other result.
-class StayPlanner : public placement::Planner {
- public:
-  std::string name() const override { return "random"; }
-  void iterate(placement::Swarm& /*swarm*/, int /*iteration*/) override {}
-};
-
 double mean_db(const Eigen::VectorXd& linear) {
   double sum = 0.0;
   for (Eigen::Index k = 0; k < linear.size(); ++k) sum += placement::to_db(linear(k));
@@ -33,33 +26,10 @@ double mean_db(const Eigen::VectorXd& linear) {
 
 }  // namespace
 
-std::unique_ptr<placement::Planner> make_planner(const placement::PlacementSettings& p, Algorithm a) {
-  switch (a) {
-    case Algorithm::kGd:
-      return std::make_unique<placement::GradientDescentPlanner>(p.scenario, p.gd);
-    case Algorithm::kBf:
-      return std::make_unique<placement::BruteForcePlanner>(p.scenario, p.bf);
-    case Algorithm::kCap:
-      return std::make_unique<placement::CapacityPlanner>(p.scenario, p.cap);
-    case Algorithm::kUra:
-    case Algorithm::kUraLattice:
-    case Algorithm::kUraLatticeExact:
-      return std::make_unique<placement::UraPlanner>(p.scenario, ura_variant_of(a), p.ura);
-    case Algorithm::kRandom:
-      break;
-  }
-  return nullptr;
-}
-
-placement::UraVariant ura_variant_of(Algorithm a) {
-  switch (a) {
-    case Algorithm::kUraLattice:
-      return placement::UraVariant::kLattice;
-    case Algorithm::kUraLatticeExact:
-      return placement::UraVariant::kLatticeExact;
-    default:
-      return placement::UraVariant::kRigid;
-  }
+std::unique_ptr<placement::Planner> make_planner(const placement::PlacementSettings& p, const Algorithm& a) {
+  const placement::PlannerEntry& e = a.entry();
+  if (!e.make) throw std::invalid_argument("make_planner: " + e.name + " is a direct planner");
+  return e.make(p);
 }
 
 Algorithm ura_algorithm_of(placement::UraVariant variant) {
@@ -74,37 +44,23 @@ Algorithm ura_algorithm_of(placement::UraVariant variant) {
   return Algorithm::kUra;
 }
 
-placement::RunOptions run_options_of(const placement::PlacementSettings& p, Algorithm a, placement::RunOptions run) {
-  switch (a) {
-    case Algorithm::kGd:
-      run = placement::with_override(run, p.gd_run);
-      break;
-    case Algorithm::kBf:
-      run = placement::with_override(run, p.bf_run);
-      break;
-    case Algorithm::kCap:
-      run = placement::with_override(run, p.cap_run);
-      break;
-    case Algorithm::kUra:
-    case Algorithm::kUraLattice:
-    case Algorithm::kUraLatticeExact:
-      run = placement::with_override(run, p.ura_run);
-      break;
-    case Algorithm::kRandom:
-      run.max_iterations = 0;
-      break;
-  }
-  run.noise_variance = p.scenario.noise_variance();
-  return run;
+placement::RunOptions run_options_of(const placement::PlacementSettings& p, const Algorithm& a,
+                                     placement::RunOptions run) {
+  return placement::planner_run_options(a.entry(), p, run);
 }
 
 namespace {
 // run_algorithm; `seed_free` (optional) is set to whether the run took nothing from its seed
 // (SeedFreeRuns): no normal draw, and no position estimate under a localization error.
 placement::RunResult run_algorithm_on_swarm(const ExperimentSettings& s, const placement::PlacementSettings& p,
-                                            Algorithm a, int trial, const Eigen::Matrix3Xd& start, std::uint64_t seed,
+                                            const Algorithm& a, int trial, const Eigen::Matrix3Xd& start, std::uint64_t seed,
                                             placement::RunOptions run, bool* seed_free) {
-  run = run_options_of(p, a, run);
+  const placement::PlannerEntry& entry = a.entry();
+  if (entry.direct()) {  // computed at once from the start: no swarm, no draw
+    if (seed_free) *seed_free = true;
+    return placement::fly_straight(p.scenario, entry.name, start, entry.solve(p, start));
+  }
+  run = placement::planner_run_options(entry, p, run);
   const placement::ChannelModel model(p.scenario);
   placement::Swarm swarm(model, start, p.errors, seed);
   if (p.channel.active()) {
@@ -112,9 +68,8 @@ placement::RunResult run_algorithm_on_swarm(const ExperimentSettings& s, const p
                                                               trial_scatter_seed(s, trial),
                                                               common::derive_seed(seed, {5})));
   }
-  std::unique_ptr<placement::Planner> planner = make_planner(p, a);
-  StayPlanner stay;
-  placement::RunResult result = placement::run_placement(planner ? *planner : stay, swarm, run);
+  const std::unique_ptr<placement::Planner> planner = entry.make(p);
+  placement::RunResult result = placement::run_placement(*planner, swarm, run);
   if (seed_free) {
     *seed_free = !p.channel.active() && swarm.normal_blocks_drawn() == 0 &&
                  (p.errors.sigma_loc_m == 0.0 || swarm.position_estimates() == 0);
@@ -123,27 +78,27 @@ placement::RunResult run_algorithm_on_swarm(const ExperimentSettings& s, const p
 }
 }  // namespace
 
-placement::RunResult run_algorithm(const ExperimentSettings& s, const placement::PlacementSettings& p, Algorithm a,
+placement::RunResult run_algorithm(const ExperimentSettings& s, const placement::PlacementSettings& p, const Algorithm& a,
                                    int trial, const Eigen::Matrix3Xd& start, std::uint64_t seed,
                                    placement::RunOptions run) {
   return run_algorithm_on_swarm(s, p, a, trial, start, seed, run, nullptr);
 }
 
-bool SeedFreeRuns::applies(const placement::PlacementSettings& p, Algorithm a) {
+bool SeedFreeRuns::applies(const placement::PlacementSettings& p, const Algorithm& a) {
   return !p.channel.active() && p.errors.sigma_act_m == 0.0 &&
-         (p.errors.sigma_loc_m == 0.0 || a == Algorithm::kBf || a == Algorithm::kRandom);
+         (p.errors.sigma_loc_m == 0.0 || !a.entry().uses_positions);
 }
 
-std::optional<TrialRecord> SeedFreeRuns::find(Algorithm a, int trial) const {
+std::optional<TrialRecord> SeedFreeRuns::find(const Algorithm& a, int trial) const {
   const std::lock_guard<std::mutex> lock(mutex_);
-  const auto it = records_.find({static_cast<int>(a), trial});
+  const auto it = records_.find({a.name(), trial});
   if (it == records_.end()) return std::nullopt;
   return it->second;
 }
 
-void SeedFreeRuns::put(Algorithm a, int trial, const TrialRecord& record) {
+void SeedFreeRuns::put(const Algorithm& a, int trial, const TrialRecord& record) {
   const std::lock_guard<std::mutex> lock(mutex_);
-  records_.emplace(std::make_pair(static_cast<int>(a), trial), record);
+  records_.emplace(std::make_pair(a.name(), trial), record);
 }
 
 std::uint64_t trial_start_seed(const ExperimentSettings& s, int trial) {
@@ -246,7 +201,7 @@ std::vector<TrialRecord> run_trial(const ExperimentSettings& s, const std::strin
   placement::RunOptions run = p.run;
   run.full_icn_trace = false;  // only milestones and the final positions are recorded
   std::vector<TrialRecord> records;
-  for (const Algorithm a : s.algorithms) {
+  for (const Algorithm& a : s.algorithms) {
     const bool reusable = seed_free && SeedFreeRuns::applies(p, a);
     if (std::optional<TrialRecord> done = reusable ? seed_free->find(a, trial) : std::nullopt) {
       done->sweep = sweep;  // make_record's point-dependent fields
@@ -267,7 +222,7 @@ std::vector<TrialRecord> run_trial(const ExperimentSettings& s, const std::strin
   return records;
 }
 
-placement::RunResult run_traced(const ExperimentSettings& s, Algorithm algorithm, int trial, bool record_path) {
+placement::RunResult run_traced(const ExperimentSettings& s, const Algorithm& algorithm, int trial, bool record_path) {
   placement::PlacementSettings p = s.placement;
   p.errors = placement::ErrorModel{};
   placement::RunOptions run = p.run;
@@ -277,7 +232,7 @@ placement::RunResult run_traced(const ExperimentSettings& s, Algorithm algorithm
                        common::derive_seed(s.seed, {2, static_cast<std::uint64_t>(trial)}), run);
 }
 
-placement::RunResult run_path(const ExperimentSettings& s, Algorithm algorithm, int trial, double sigma_act_m) {
+placement::RunResult run_path(const ExperimentSettings& s, const Algorithm& algorithm, int trial, double sigma_act_m) {
   placement::PlacementSettings p = s.placement;
   p.errors.sigma_loc_m = 0.0;
   p.errors.sigma_act_m = sigma_act_m;

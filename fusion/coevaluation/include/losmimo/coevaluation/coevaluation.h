@@ -7,7 +7,8 @@
 //   range R = |cube_center_m|, per lateral axis (1-sigma). The beacon's angle noise is
 //   sigma_angle_rad = v / R (azimuth and elevation); its range noise is [closed_loop]
 //   beacon_sigma_range_m whatever v. At every point every algorithm starts from the trial's start
-//   (experiment::trial_start_positions_m) with the point's seed (experiment::trial_seed):
+//   (experiment::trial_start_positions_m) with the point's seed (experiment::trial_seed). A row is
+//   a (planner, estimator) pair (estimator_registry.h); today's rows by their aliases:
 //   - gd_gauss      the paper's GD under its Gaussian localization model with sigma_loc_m = v:
 //                   the experiment's own GD run (experiment::run_algorithm: planner, [gd] stop
 //                   rule), from the point's seed. Matching: the Gaussian's error
@@ -68,6 +69,7 @@
 
 #include "losmimo/common/input_error.h"
 #include "losmimo/common/key_table.h"
+#include "losmimo/coevaluation/estimator_registry.h"
 #include "losmimo/fusion/closed_loop.h"
 #include "losmimo/experiment/extension.h"
 #include "losmimo/placement/ura.h"
@@ -77,26 +79,13 @@ namespace losmimo::coevaluation {
 inline const std::string kSweepBeaconNoise = "beacon_noise_m";
 inline const std::string kSweepBeaconOutage = "beacon_outage";
 
-enum class CoevalAlgorithm {
-  kGdGauss,
-  kGdGaussMatched,
-  kGdEkf,
-  kGdEkfNoFallback,
-  kGdPf,
-  kGdEkfCeres,
-  kBf,
-  kUraEkf,
-  kCentralized,
-  kCapEkf,  // the capacity planner (placement/capacity.h) from EKF beliefs; not in the default list
-};
-std::string to_string(CoevalAlgorithm algorithm);
-
 struct CoevaluationSettings {
   std::vector<double> beacon_noise_values_m = {0.0, 0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.14, 0.16, 0.18};
-  std::vector<CoevalAlgorithm> algorithms = {CoevalAlgorithm::kGdGauss,        CoevalAlgorithm::kGdEkf,
-                                             CoevalAlgorithm::kGdGaussMatched, CoevalAlgorithm::kGdPf,
-                                             CoevalAlgorithm::kGdEkfCeres,     CoevalAlgorithm::kBf,
-                                             CoevalAlgorithm::kUraEkf,         CoevalAlgorithm::kCentralized};
+  // The rows (estimator_registry.h), resolved: ura_ekf's planner is ura_variant's URA.
+  std::vector<CoevalRow> algorithms = {
+      {"gd_gauss", "gd", "gauss"}, {"gd_ekf", "gd", "ekf"},       {"gd_gauss_matched", "gd", "gauss_matched"},
+      {"gd_pf", "gd", "pf"},       {"gd_ekf_ceres", "gd", "ekf_ceres"}, {"bf", "bf", "truth"},
+      {"ura_ekf", "ura", "ekf"},   {"centralized", "centralized", "truth"}};
   // The [closed_loop] keys shared with losmimo-record, as ClosedLoopConfig holds them:
   // simulator.sigma_range_m (the beacon's range 1-sigma at every point), simulator.dr_sigma_*,
   // filter.num_particles, refinement.window_epochs and refinement.use_csi. The rest of a run's
@@ -104,7 +93,8 @@ struct CoevaluationSettings {
   fusion::ClosedLoopConfig closed_loop;
   placement::UraVariant ura_variant = placement::UraVariant::kRigid;
   std::vector<int> outage_values = {0, 2, 4, 8};  // UAVs without beacon
-  std::vector<CoevalAlgorithm> outage_algorithms = {CoevalAlgorithm::kGdEkf, CoevalAlgorithm::kGdEkfNoFallback};
+  // gd's closed loop with a filter estimator only.
+  std::vector<CoevalRow> outage_algorithms = {{"gd_ekf", "gd", "ekf"}, {"gd_ekf_nofallback", "gd", "ekf_nofallback"}};
   int outage_first_epoch = 10;
   int outage_epochs = 30;
   int outage_degraded_after_epochs = 5;
@@ -146,26 +136,29 @@ inline constexpr experiment::ExtensionMetric kPairedIterationsDiff{
 // Their table, in column order.
 const experiment::ExtensionMetrics& coevaluation_metrics();
 
-// The closed-loop config of `algorithm` (a closed-loop one) at beacon cross-range error
-// beacon_noise_m [m] (sigma_angle_rad = beacon_noise_m / R).
+// The closed-loop config of filter estimator `estimator` (ekf, pf, ekf_nofallback, ekf_ceres: one
+// with EstimatorEntry::closed_loop) at beacon cross-range error beacon_noise_m [m]
+// (sigma_angle_rad = beacon_noise_m / R); std::invalid_argument for another.
 fusion::ClosedLoopConfig coevaluation_closed_loop_config(const CoevaluationSettings& settings,
-                                                         const placement::Scenario& scenario, CoevalAlgorithm algorithm,
-                                                         double beacon_noise_m);
+                                                         const placement::Scenario& scenario,
+                                                         const std::string& estimator, double beacon_noise_m);
 
 // The UAVs that lose the beacon in the outage sweep: floor(i * num_uavs / num_lost).
 std::vector<int> outage_uavs(int num_lost, int num_uavs);
 
-// Solutions of eq. 4 per start, shared by every sweep point of a run (thread-safe).
-class CentralizedCache;
-
-// One trial of each sweep: every configured algorithm's record (extra = the metrics above).
+// One trial of each sweep: every configured row's record (extra = the metrics above). `c` is
+// load_coevaluation_settings(settings), parsed once per run; the overloads without it parse it.
+std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::ExperimentSettings& settings,
+                                                            const CoevaluationSettings& c, int point, int trial);
 std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::ExperimentSettings& settings, int point,
-                                                            int trial, CentralizedCache* cache = nullptr);
+                                                            int trial);
+std::vector<experiment::TrialRecord> run_outage_trial(const experiment::ExperimentSettings& settings,
+                                                      const CoevaluationSettings& c, int point, int trial);
 std::vector<experiment::TrialRecord> run_outage_trial(const experiment::ExperimentSettings& settings, int point,
                                                       int trial);
 
-// The two extensions (extensions.h lists them). Each beacon_noise_m extension owns
-// a CentralizedCache.
+// The two extensions (extensions.h lists them); each parses its settings once per run
+// (ExperimentExtension::bind).
 experiment::ExperimentExtension beacon_noise_extension();
 experiment::ExperimentExtension beacon_outage_extension();
 

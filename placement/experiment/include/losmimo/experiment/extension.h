@@ -30,6 +30,11 @@ struct ExperimentExtension {
   // `metrics` in its `extension` values (the engine refuses one left unset). Must be
   // deterministic in (settings, point, trial) and thread-safe.
   std::function<std::vector<TrialRecord>(const ExperimentSettings&, int point, int trial)> run;
+  // Optional, preferred over run: called once per run, before any trial, with the run's settings
+  // (which outlive the returned function); returns the trial function with the extension's own
+  // settings already parsed, under the same rules as run.
+  using TrialFn = std::function<std::vector<TrialRecord>(int point, int trial)>;
+  std::function<TrialFn(const ExperimentSettings&)> bind;
   // Optional: figures (write files into the folder, return warnings) and a report.md section.
   std::function<std::vector<std::string>(const ExperimentSettings&, const std::vector<SummaryRow>&,
                                          const std::string& out_dir)>

@@ -52,7 +52,7 @@ int square_array_side(int num_uavs);
 // The scenario at a point: the configured one with num_uavs UAVs and the array above.
 placement::Scenario num_uavs_scenario(const placement::Scenario& base, NumUavsArray array, int num_uavs);
 // Whether algorithm a runs at a point of num_uavs UAVs (cap only up to cap_max_uavs).
-bool runs_at(const NumUavsSweepSettings& sweep, Algorithm a, int num_uavs);
+bool runs_at(const NumUavsSweepSettings& sweep, const Algorithm& a, int num_uavs);
 
 inline constexpr ExtensionMetric kBsAntennas{{"bs_antennas"}, "", "BS antennas Nt = bs_rows x bs_cols at the point"};
 const ExtensionMetrics& num_uavs_sweep_metrics();

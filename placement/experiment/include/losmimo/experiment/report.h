@@ -50,7 +50,7 @@ struct RunTiming {
 std::string describe(const RunTiming& timing);
 
 // The line colour of an algorithm in every figure (gnuplot "#rrggbb").
-const char* algorithm_color(Algorithm algorithm);
+const char* algorithm_color(const Algorithm& algorithm);
 
 struct ReportOutcome {
   std::vector<std::string> warnings;

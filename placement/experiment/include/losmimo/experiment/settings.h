@@ -13,17 +13,41 @@
 
 #include "losmimo/common/ini_config.h"
 #include "losmimo/common/key_table.h"
+#include "losmimo/placement/planner_registry.h"
 #include "losmimo/placement/settings.h"
 
 namespace losmimo::experiment {
 
-// The built-in placement algorithms.
-// Not in the default list, as the paper has no such algorithm: kUraLatticeExact
-// ("ura_lattice_exact", ura.h), for large arrays (256 UAVs), where the paraxial lattice stops
-// below 0.95; kCap ("cap", placement/capacity.h), the follow-up paper's capacity ascent.
-enum class Algorithm { kRandom, kGd, kBf, kUra, kUraLattice, kUraLatticeExact, kCap };
-std::string to_string(Algorithm a);
-// Throws common::InputError naming `where` for an unknown name.
+// A placement algorithm of the experiment: a planner of the registry (placement/planner_registry.h)
+// by its name. The constants name the builtin planners that the paper's figures and the reports
+// refer to. Not in the default list, as the paper has no such algorithm: "ura_lattice_exact"
+// (ura.h), for large arrays (256 UAVs), where the paraxial lattice stops below 0.95; "cap"
+// (placement/capacity.h), the follow-up paper's capacity ascent.
+class Algorithm {
+ public:
+  explicit Algorithm(std::string name) : name_(std::move(name)) {}
+  const std::string& name() const { return name_; }
+  // Its registry entry; std::invalid_argument when the name is not registered.
+  const placement::PlannerEntry& entry() const { return placement::planner_entry(name_); }
+  friend bool operator==(const Algorithm& a, const Algorithm& b) { return a.name_ == b.name_; }
+  friend bool operator!=(const Algorithm& a, const Algorithm& b) { return a.name_ != b.name_; }
+  friend bool operator<(const Algorithm& a, const Algorithm& b) { return a.name_ < b.name_; }
+
+  static const Algorithm kRandom, kGd, kBf, kUra, kUraLattice, kUraLatticeExact, kCap;
+
+ private:
+  std::string name_;
+};
+inline const Algorithm Algorithm::kRandom{"random"};
+inline const Algorithm Algorithm::kGd{"gd"};
+inline const Algorithm Algorithm::kBf{"bf"};
+inline const Algorithm Algorithm::kUra{"ura"};
+inline const Algorithm Algorithm::kUraLattice{"ura_lattice"};
+inline const Algorithm Algorithm::kUraLatticeExact{"ura_lattice_exact"};
+inline const Algorithm Algorithm::kCap{"cap"};
+inline const std::string& to_string(const Algorithm& a) { return a.name(); }
+// The iterative planner `name` (direct ones run in the co-evaluation only); common::InputError
+// naming `where` and the known names otherwise.
 Algorithm algorithm_from_string(const std::string& name, const std::string& where);
 
 // The built-in sweeps.
@@ -50,8 +74,8 @@ struct ExperimentSettings {
   std::uint64_t seed = 2018;
   std::vector<SweepPoints> sweeps = {{kSweepSigmaLoc, {0.0, 0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.14, 0.16, 0.18}},
                                      {kSweepSigmaAct, {0.0, 0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.14, 0.16, 0.18}}};
-  std::vector<Algorithm> algorithms = {Algorithm::kRandom, Algorithm::kGd, Algorithm::kBf, Algorithm::kUra,
-                                       Algorithm::kUraLattice};
+  std::vector<Algorithm> algorithms = {Algorithm("random"), Algorithm("gd"), Algorithm("bf"), Algorithm("ura"),
+                                       Algorithm("ura_lattice")};
   int fig1_trials = 1;
   int threads = 0;
   bool plots = true;

@@ -84,20 +84,23 @@ std::uint64_t trial_seed(const ExperimentSettings& settings, const std::string& 
 std::uint64_t trial_scatter_seed(const ExperimentSettings& settings, int trial);
 std::uint64_t trial_fading_eval_seed(const ExperimentSettings& settings, int trial);
 
-// The experiment's planner of algorithm a under placement settings p ([gd], [bf], [ura], [cap]
-// options); nullptr for kRandom (the start is the result).
-std::unique_ptr<placement::Planner> make_planner(const placement::PlacementSettings& p, Algorithm a);
-// The URA variant of a URA algorithm (kRigid for any other) and the algorithm of a variant.
-placement::UraVariant ura_variant_of(Algorithm a);
+// The planner of iterative algorithm a under placement settings p (its registry entry's make:
+// [gd], [bf], [ura], [cap] options; random stays at the start); std::invalid_argument for a
+// direct one.
+std::unique_ptr<placement::Planner> make_planner(const placement::PlacementSettings& p, const Algorithm& a);
+// The URA algorithm of a variant (ura, ura_lattice, ura_lattice_exact).
 Algorithm ura_algorithm_of(placement::UraVariant variant);
 // The stop rule algorithm a runs under: `run` with the algorithm's own [gd] / [bf] / [ura] / [cap]
-// target_icn and max_iterations where set (kRandom: 0 iterations), noise variance the scenario's.
-placement::RunOptions run_options_of(const placement::PlacementSettings& p, Algorithm a, placement::RunOptions run);
+// target_icn and max_iterations where set (random: 0 iterations), noise variance the scenario's
+// (placement::planner_run_options).
+placement::RunOptions run_options_of(const placement::PlacementSettings& p, const Algorithm& a,
+                                     placement::RunOptions run);
 
 // Runs algorithm a from `start` under the placement settings p, errors drawn from `seed`, with
-// p.channel's conditions (trial `trial`'s scatter) when active.
+// p.channel's conditions (trial `trial`'s scatter) when active. A direct planner's run is its
+// solution flown straight (placement::fly_straight), without errors.
 placement::RunResult run_algorithm(const ExperimentSettings& settings, const placement::PlacementSettings& p,
-                                   Algorithm a, int trial, const Eigen::Matrix3Xd& start, std::uint64_t seed,
+                                   const Algorithm& a, int trial, const Eigen::Matrix3Xd& start, std::uint64_t seed,
                                    placement::RunOptions run);
 
 // Fills a record's common fields from a finished run (metrics at the final positions).
@@ -112,19 +115,19 @@ TrialRecord make_record(const ExperimentSettings& settings, const placement::Pla
 // The runs of one experiment that take nothing from their seed, one record per (algorithm,
 // trial), shared by the sweep points that would repeat them; safe to use from several threads.
 // A run is seed-free when no channel conditions are active, sigma_act_m is 0 and either
-// sigma_loc_m is 0 or the algorithm never estimates a position (bf, random): then it draws no
+// sigma_loc_m is 0 or the algorithm never estimates a position (its planner does not use positions: bf, random): then it draws no
 // number, and its record differs between those points only in sweep, value and seed. Whichever
 // point computes it first stores it; one computed twice (two threads at once) is the same.
 class SeedFreeRuns {
  public:
   // Whether algorithm a under placement settings p is seed-free (above).
-  static bool applies(const placement::PlacementSettings& p, Algorithm a);
-  std::optional<TrialRecord> find(Algorithm a, int trial) const;
-  void put(Algorithm a, int trial, const TrialRecord& record);
+  static bool applies(const placement::PlacementSettings& p, const Algorithm& a);
+  std::optional<TrialRecord> find(const Algorithm& a, int trial) const;
+  void put(const Algorithm& a, int trial, const TrialRecord& record);
 
  private:
   mutable std::mutex mutex_;
-  std::map<std::pair<int, int>, TrialRecord> records_;
+  std::map<std::pair<std::string, int>, TrialRecord> records_;
 };
 
 // The built-in sweeps (sigma_loc_m, sigma_act_m): the settings' algorithms on trial `trial`
@@ -135,10 +138,11 @@ std::vector<TrialRecord> run_trial(const ExperimentSettings& settings, const std
 
 // A Fig 1 run: `algorithm` without errors from trial `trial`'s start, SINR traced (and with
 // record_path, the positions after every iteration).
-placement::RunResult run_traced(const ExperimentSettings& settings, Algorithm algorithm, int trial,
+placement::RunResult run_traced(const ExperimentSettings& settings, const Algorithm& algorithm, int trial,
                                 bool record_path = false);
 // The same start under actuation error sigma_act_m alone, positions recorded (the path figure);
 // seed derive_seed(seed, {6, trial}).
-placement::RunResult run_path(const ExperimentSettings& settings, Algorithm algorithm, int trial, double sigma_act_m);
+placement::RunResult run_path(const ExperimentSettings& settings, const Algorithm& algorithm, int trial,
+                              double sigma_act_m);
 
 }  // namespace losmimo::experiment

@@ -1,0 +1,52 @@
+#include "losmimo/coevaluation/registries_markdown.h"
+
+#include <string>
+#include <vector>
+
+#include "losmimo/coevaluation/estimator_registry.h"
+#include "losmimo/common/text.h"
+#include "losmimo/placement/planner_registry.h"
+
+namespace losmimo::coevaluation {
+
+namespace {
+std::vector<std::string> quoted(const std::vector<std::string>& items, const std::string& open,
+                                const std::string& close) {
+  std::vector<std::string> out;
+  for (const std::string& i : items) out.push_back(open + i + close);
+  return out;
+}
+}  // namespace
+
+std::string registries_markdown() {
+  register_coevaluation_planners();
+  std::string md =
+      "### Planners\n\n| name | kind | its own sections | positions reach it | what |\n|---|---|---|---|---|\n";
+  for (const std::string& name : placement::planner_names()) {
+    const placement::PlannerEntry& e = placement::planner_entry(name);
+    md += "| `" + name + "` | " + (e.direct() ? "direct" : "iterative") + " | " +
+          common::join(quoted(e.sections, "`[", "]`")) + " | " + (e.uses_positions && !e.direct() ? "yes" : "no") +
+          " | " + e.summary + " |\n";
+  }
+  md += "\n### Estimators\n\n| name | its own keys | what |\n|---|---|---|\n";
+  for (const std::string& name : estimator_names()) {
+    const EstimatorEntry& e = estimator_entry(name);
+    md += "| `" + name + "` | " + common::join(quoted(e.keys, "`", "`")) + " | " + e.summary + " |\n";
+  }
+  md += "\n### Row aliases\n\n| row | planner | estimator |\n|---|---|---|\n";
+  for (const RowAlias& a : row_aliases()) {
+    md += "| `" + a.alias + "` | `" + (a.alias == "ura_ekf" ? "ura` (`[coevaluation] ura_variant`)" : a.planner + "`") +
+          " | `" + a.estimator + "` |\n";
+  }
+  return md;
+}
+
+std::string registries_help() {
+  register_coevaluation_planners();
+  std::vector<std::string> rows;
+  for (const RowAlias& a : row_aliases()) rows.push_back(a.alias + " = " + a.planner + "+" + a.estimator);
+  return "planners: " + common::join(placement::planner_names()) + "\nestimators: " + common::join(estimator_names()) +
+         "\nco-evaluation rows ([coevaluation] algorithms): planner+estimator, or " + common::join(rows) + "\n";
+}
+
+}  // namespace losmimo::coevaluation

@@ -1,0 +1,35 @@
+#pragma once
+// What the co-evaluation's estimators (estimators.cpp) and its sweeps (coevaluation.cpp) share:
+// the sensor and filter configs of a beacon-noise point, and the records of the closed loop.
+#include <initializer_list>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "losmimo/coevaluation/coevaluation.h"
+#include "losmimo/coevaluation/estimator_registry.h"
+
+namespace losmimo::coevaluation::detail {
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The true sensors at beacon cross-range error beacon_noise_m [m] (sigma_angle = v / R).
+localization::SimulatorConfig simulator_config(const CoevaluationSettings& c, const placement::Scenario& scenario,
+                                               double beacon_noise_m);
+// The filter assumes the true noise, floored (FilterConfig's min_sigma_*).
+localization::FilterConfig filter_config(const CoevaluationSettings& c, const localization::SimulatorConfig& sim);
+
+// Sets the given metrics of a record to NaN (it has no value for them).
+void not_applicable(experiment::TrialRecord& r, std::initializer_list<experiment::MetricId> metrics);
+
+// The record of gd's closed loop under `config` for row `name` (metrics from its statistics).
+experiment::TrialRecord closed_loop_record(const experiment::ExperimentSettings& s, const std::string& sweep,
+                                           int point, int trial, const std::string& name,
+                                           const fusion::ClosedLoopConfig& config);
+
+}  // namespace losmimo::coevaluation::detail
+
+namespace losmimo::coevaluation {
+// The builtin estimators, in registration order (estimators.cpp).
+std::vector<EstimatorEntry> builtin_estimators();
+}  // namespace losmimo::coevaluation
