@@ -21,6 +21,7 @@
 #include "losmimo/apps/experiment_app.h"
 #include "losmimo/apps/experiment_scene.h"
 #include "losmimo/coevaluation/extensions.h"
+#include "losmimo/coevaluation/registries_markdown.h"
 #include "losmimo/experiment/channel_sweeps.h"
 #include "losmimo/experiment/num_uavs_sweep.h"
 #include "version_flag.h"
@@ -81,6 +82,8 @@ int main(int argc, char** argv) {
   app.add_flag("--scene", options.scene,
                "also write paths.3Dscene (the path runs and the BS array, for MRPT's SceneViewer3D) beside paths.png");
   options.scene_writer = losmimo::apps::write_experiment_scene;
+  // From the registries ([experiment] algorithms, [coevaluation] algorithms; docs/registries.md).
+  app.footer("\n" + losmimo::coevaluation::registries_help());
 
   losmimo::apps::MergeOptions merge_options;
   CLI::App* merge = app.add_subcommand("merge", "merge the folders of shards 0..N-1 into one result");

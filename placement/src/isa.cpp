@@ -1,5 +1,7 @@
 #include "losmimo/placement/isa.h"
 
+#include "losmimo/common/text.h"
+
 #include <cstdlib>
 #include <iterator>
 #include <stdexcept>
@@ -73,8 +75,7 @@ Isa choose_isa() {
                                 "': " + isa_name_requirement());
   }
   if (!isa_supported(isa)) {
-    std::string have;
-    for (const Isa s : supported_isas()) have += (have.empty() ? "" : ", ") + to_string(s);
+    const std::string have = common::join_with(supported_isas(), [](Isa s) { return to_string(s); });
     throw std::invalid_argument(std::string(kIsaEnvironmentVariable) + " = '" + forced +
                                 "': this CPU does not support it (it supports " + have + ")");
   }

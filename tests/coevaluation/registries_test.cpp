@@ -1,12 +1,9 @@
 // The two registries: a planner and an estimator registered from the test tree run through the
 // experiment and the co-evaluation with no change to either engine; rows are (planner,
-// estimator) pairs with today's names as aliases; docs/registries.md lists every entry.
-// To rewrite the page's generated part:
-//   LOSMIMO_WRITE_REGISTRIES=1 build/tests/coevaluation/coevaluation_tests --gtest_filter='Registries.DocsPage*'
+// estimator) pairs with today's names as aliases. Its own executable: the test entries it
+// registers never reach another suite's registry listings (registries_docs_test.cpp).
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -14,13 +11,11 @@
 #include "losmimo/coevaluation/coevaluation.h"
 #include "losmimo/coevaluation/estimator_registry.h"
 #include "losmimo/coevaluation/extensions.h"
-#include "losmimo/coevaluation/registries_markdown.h"
 #include "losmimo/common/ini_config.h"
 #include "losmimo/common/input_error.h"
 #include "losmimo/experiment/engine.h"
 #include "losmimo/experiment/trial.h"
 #include "losmimo/placement/planner_registry.h"
-#include "support/files.h"
 
 namespace losmimo::coevaluation {
 namespace {
@@ -77,14 +72,6 @@ experiment::ExperimentSettings settings(const std::vector<std::string>& sets) {
   cfg.set_override("errors.sigma_act_m=0");
   for (const std::string& s : sets) cfg.set_override(s);
   return experiment::load_experiment_settings(cfg, experiment_extensions());
-}
-
-const experiment::TrialRecord& record_of(const std::vector<experiment::TrialRecord>& records, const std::string& a,
-                                         double value) {
-  for (const experiment::TrialRecord& r : records) {
-    if (r.algorithm == a && r.value == value) return r;
-  }
-  throw std::runtime_error("no record of " + a);
 }
 
 TEST(Registries, TestPlanner_RunsInTheBuiltInSweep_ToItsClosedFormPositions) {
@@ -151,9 +138,8 @@ TEST(Registries, TodaysNames_AreAliasesOfPairs_AndAnExplicitPairTakesItsAlias) {
     EXPECT_EQ(c.algorithms[i].estimator, expected[i][2]);
   }
   // ura_ekf follows ura_variant.
-  const CoevaluationSettings lattice = load_coevaluation_settings(
-      settings({"experiment.sweeps=beacon_noise_m", "coevaluation.algorithms=ura_ekf",
-                "coevaluation.ura_variant=lattice"}));
+  const CoevaluationSettings lattice = load_coevaluation_settings(settings(
+      {"experiment.sweeps=beacon_noise_m", "coevaluation.algorithms=ura_ekf", "coevaluation.ura_variant=lattice"}));
   EXPECT_EQ(lattice.algorithms.at(0).planner, "ura_lattice");
 }
 
@@ -209,30 +195,6 @@ TEST(Registries, RegisteringANameTwice_OrAMalformedEntry_IsRefused) {
   truth.refuses = [](const placement::PlannerEntry&) { return std::nullopt; };
   truth.run = estimator_entry("truth").run;
   EXPECT_THROW(register_estimator(truth), std::invalid_argument);
-}
-
-TEST(Registries, DocsPage_ListsEveryRegisteredEntry) {
-  const std::string path = std::string(LOSMIMO_SOURCE_DIR) + "/docs/registries.md";
-  const std::string page = test_support::read_file(path);
-  const std::string begin = "<!-- generated: registries_markdown() -->\n";
-  const std::string end = "<!-- end generated -->\n";
-  const std::size_t a = page.find(begin), b = page.find(end);
-  ASSERT_NE(a, std::string::npos) << path << " has no generated part";
-  ASSERT_NE(b, std::string::npos) << path << " has no end of its generated part";
-  const std::string generated = registries_markdown();
-  if (std::getenv("LOSMIMO_WRITE_REGISTRIES")) {
-    std::ofstream(path, std::ios::binary) << page.substr(0, a + begin.size()) + generated + page.substr(b);
-    return;
-  }
-  EXPECT_EQ(page.substr(a + begin.size(), b - a - begin.size()), generated)
-      << "docs/registries.md is out of date: rewrite it with LOSMIMO_WRITE_REGISTRIES=1 (see the test's header)";
-  // Every registered name has a row (the builtin ones: this process registers no test entry).
-  for (const std::string& name : placement::planner_names()) {
-    EXPECT_NE(generated.find("| `" + name + "` |"), std::string::npos) << name;
-  }
-  for (const std::string& name : estimator_names()) {
-    EXPECT_NE(generated.find("| `" + name + "` |"), std::string::npos) << name;
-  }
 }
 
 }  // namespace

@@ -48,7 +48,7 @@ ExperimentSettings load_settings(const ExperimentOptions& options, const Experim
   // A --set key that none of the run's sweeps uses is refused (unused_keys.h).
   ExperimentUse use;
   for (const SweepPoints& s : settings.sweeps) use.sweeps.push_back(s.name);
-  for (const Algorithm a : settings.algorithms) use.algorithms.push_back(to_string(a));
+  for (const Algorithm& a : settings.algorithms) use.algorithms.push_back(to_string(a));
   use.fading = settings.placement.channel.fading();
   use.readings = !settings.readings.empty();
   for (const ExperimentExtension& e : extensions) {

@@ -14,6 +14,7 @@
 #include "losmimo/apps/exit_codes.h"
 #include "losmimo/apps/replay_app.h"
 #include "losmimo/common/input_error.h"
+#include "losmimo/common/text.h"
 #include "losmimo/apps/staged_output.h"
 #include "losmimo/common/test_hook.h"
 #include "losmimo/rawlog_io/reader.h"
@@ -34,9 +35,7 @@ inline void check_out_options(const ReplayAppOptions& options) {
 // "not used from CONFIG: k1, k2" on out, nothing when every key is used.
 inline void print_unused_keys(std::ostream& out, const std::string& config_path, const std::vector<std::string>& keys) {
   if (keys.empty()) return;
-  std::string list;
-  for (const std::string& k : keys) list += (list.empty() ? "" : ", ") + k;
-  out << "not used from " << config_path << ": " << list << "\n";
+  out << "not used from " << config_path << ": " << common::join(keys) << "\n";
 }
 
 // Called inside a catch (...) around reading and replaying `rawlog_path`: bad input and a file

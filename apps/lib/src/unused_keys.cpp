@@ -136,7 +136,9 @@ const std::vector<UnusedKeys>& unused_keys() {
        {"no ekf_ceres estimator in [coevaluation] algorithms",
         "no ekf_ceres estimator in [coevaluation] outage_algorithms"},
        "the refinement's settings: only the ekf_ceres estimator (gd_ekf_ceres) refines"},
-      {{"ura.*"}, {"no URA planner in [coevaluation] algorithms"}, "the URA's settings: only a URA row (ura_ekf) runs one"},
+      {{"ura.*"},
+       {"no URA planner in [coevaluation] algorithms"},
+       "the URA's settings: only a URA row (ura_ekf) runs one"},
       {{"coevaluation.ura_variant"}, {"no ura_ekf in [coevaluation] algorithms"}, "the URA variant of ura_ekf"},
       {{"cap.*"},
        {"no cap planner in [coevaluation] algorithms"},
@@ -168,9 +170,7 @@ const std::vector<UnusedKeys>& unused_keys() {
 
 std::string unused_keys_markdown() {
   const auto join = [](const std::vector<std::string>& items, const std::string& quote) {
-    std::string out;
-    for (const std::string& i : items) out += (out.empty() ? "" : ", ") + quote + i + quote;
-    return out;
+    return common::join_with(items, [&quote](const std::string& i) { return quote + i + quote; });
   };
   std::string out = "| keys | not used by | why |\n|---|---|---|\n";
   for (const UnusedKeys& e : unused_keys()) {
@@ -234,11 +234,9 @@ void refuse_unused_overrides(const common::IniConfig& config, const std::vector<
       if (!unused_here) used = true;
     }
     if (used) continue;
-    std::string who, why;
-    for (const KeyUser& u : users) {
-      who += (who.empty() ? "" : ", ") + (u.name.rfind("losmimo-", 0) == 0 ? u.name : "the sweep " + u.name);
-    }
-    for (const std::string& r : reasons) why += (why.empty() ? "" : "; ") + r;
+    const std::string who = common::join_with(
+        users, [](const KeyUser& u) { return u.name.rfind("losmimo-", 0) == 0 ? u.name : "the sweep " + u.name; });
+    const std::string why = common::join(reasons, "; ");
     throw common::InputError(config.where(section, key) + ": not used by " + who + ": " + why);
   }
 }

@@ -50,9 +50,8 @@ double fallback_fraction(const fusion::ClosedLoopStats& s, int iterations) {
 }
 }  // namespace
 
-experiment::TrialRecord closed_loop_record(const experiment::ExperimentSettings& s, const std::string& sweep,
-                                           int point, int trial, const std::string& name,
-                                           const fusion::ClosedLoopConfig& config) {
+experiment::TrialRecord closed_loop_record(const experiment::ExperimentSettings& s, const std::string& sweep, int point,
+                                           int trial, const std::string& name, const fusion::ClosedLoopConfig& config) {
   const fusion::ClosedLoopRun r = fusion::run_closed_loop(s.placement, experiment::trial_start_positions_m(s, trial),
                                                           config, experiment::trial_seed(s, sweep, point, trial));
   experiment::TrialRecord rec = experiment::make_record(s, sweep, point, trial, name, r.run);
@@ -104,8 +103,7 @@ std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::Ex
                       rows_done,
                       records};
   for (const CoevalRow& row : c.algorithms) {
-    experiment::TrialRecord r =
-        estimator_entry(row.estimator).run(row, placement::planner_entry(row.planner), t);
+    experiment::TrialRecord r = estimator_entry(row.estimator).run(row, placement::planner_entry(row.planner), t);
     rows_done.push_back(row);
     records.push_back(std::move(r));
   }
@@ -184,9 +182,7 @@ experiment::ExperimentExtension beacon_outage_extension() {
   e.run = [](const experiment::ExperimentSettings& s, int point, int trial) {
     return run_outage_trial(s, point, trial);
   };
-  e.bind = [](const experiment::ExperimentSettings& s) {
-    return bound(s, static_cast<TrialOf>(&run_outage_trial));
-  };
+  e.bind = [](const experiment::ExperimentSettings& s) { return bound(s, static_cast<TrialOf>(&run_outage_trial)); };
   e.figures = write_outage_figures;
   e.report_section = outage_report_section;
   return e;

@@ -95,12 +95,16 @@ std::vector<std::string> estimator_names() {
 }
 
 const std::vector<RowAlias>& row_aliases() {
-  static const std::vector<RowAlias> aliases = {
-      {"gd_gauss", "gd", "gauss"},         {"gd_gauss_matched", "gd", "gauss_matched"},
-      {"gd_ekf", "gd", "ekf"},             {"gd_ekf_nofallback", "gd", "ekf_nofallback"},
-      {"gd_pf", "gd", "pf"},               {"gd_ekf_ceres", "gd", "ekf_ceres"},
-      {"bf", "bf", "truth"},               {"ura_ekf", "ura", "ekf"},
-      {"centralized", "centralized", "truth"}, {"cap_ekf", "cap", "ekf"}};
+  static const std::vector<RowAlias> aliases = {{"gd_gauss", "gd", "gauss"},
+                                                {"gd_gauss_matched", "gd", "gauss_matched"},
+                                                {"gd_ekf", "gd", "ekf"},
+                                                {"gd_ekf_nofallback", "gd", "ekf_nofallback"},
+                                                {"gd_pf", "gd", "pf"},
+                                                {"gd_ekf_ceres", "gd", "ekf_ceres"},
+                                                {"bf", "bf", "truth"},
+                                                {"ura_ekf", "ura", "ekf"},
+                                                {"centralized", "centralized", "truth"},
+                                                {"cap_ekf", "cap", "ekf"}};
   return aliases;
 }
 
@@ -123,9 +127,8 @@ CoevalRow parse_row(const std::string& text, const std::string& where) {
     }
     return {planner + "+" + estimator, planner, estimator};
   }
-  std::vector<std::string> aliases;
-  for (const RowAlias& a : row_aliases()) aliases.push_back(a.alias);
-  throw common::InputError(where + ": unknown algorithm '" + text + "' (known: " + common::join(aliases) +
+  throw common::InputError(where + ": unknown algorithm '" + text +
+                           "' (known: " + common::join_with(row_aliases(), [](const RowAlias& a) { return a.alias; }) +
                            "; or planner+estimator, planners: " + common::join(placement::planner_names()) +
                            ", estimators: " + common::join(estimator_names()) + ")");
 }

@@ -116,9 +116,9 @@ EstimatorEntry truth() {
   e.summary = "the true positions (sigma_loc 0); bf, random and centralized pair with it alone";
   e.refuses = [](const placement::PlannerEntry&) { return std::nullopt; };
   e.run = [](const CoevalRow& row, const placement::PlannerEntry& planner, const CoevalTrial& t) {
-    experiment::TrialRecord r = t.record(
-        row, experiment::run_algorithm(t.settings, exact_positions(t), experiment::Algorithm(planner.name), t.trial,
-                                       t.start_m, t.seed, t.settings.placement.run));
+    experiment::TrialRecord r =
+        t.record(row, experiment::run_algorithm(t.settings, exact_positions(t), experiment::Algorithm(planner.name),
+                                                t.trial, t.start_m, t.seed, t.settings.placement.run));
     not_applicable(r, {kLocRmse, kLocLateralRmse, kNees, kBfFallbackFraction, kBeaconLateralRmse, kPairedTravelDiff,
                        kPairedIterationsDiff});
     return r;
@@ -135,8 +135,8 @@ EstimatorEntry gauss() {
     placement::PlacementSettings p = t.settings.placement;
     p.errors.sigma_loc_m = t.beacon_noise_m;
     experiment::TrialRecord r =
-        t.record(row, experiment::run_algorithm(t.settings, p, experiment::Algorithm(planner.name), t.trial,
-                                                t.start_m, t.seed, t.settings.placement.run));
+        t.record(row, experiment::run_algorithm(t.settings, p, experiment::Algorithm(planner.name), t.trial, t.start_m,
+                                                t.seed, t.settings.placement.run));
     set_gaussian_metrics(r, t.beacon_noise_m);
     not_applicable(r, {kPairedTravelDiff, kPairedIterationsDiff});
     return r;
@@ -164,8 +164,8 @@ EstimatorEntry gauss_matched() {
     placement::PlacementSettings p = t.settings.placement;
     p.errors.sigma_loc_m = ekf->extension.at(kLocLateralRmse) / std::sqrt(2.0);  // the same lateral RMSE
     experiment::TrialRecord own =
-        t.record(row, experiment::run_algorithm(t.settings, p, experiment::Algorithm(planner.name), t.trial,
-                                                t.start_m, t.seed, t.settings.placement.run));
+        t.record(row, experiment::run_algorithm(t.settings, p, experiment::Algorithm(planner.name), t.trial, t.start_m,
+                                                t.seed, t.settings.placement.run));
     set_gaussian_metrics(own, p.errors.sigma_loc_m);
     own.extension.set(kPairedTravelDiff, ekf->dist_to_icn095_m - own.dist_to_icn095_m);
     own.extension.set(kPairedIterationsDiff, static_cast<double>(ekf->iterations - own.iterations));
@@ -217,8 +217,7 @@ experiment::TrialRecord run_filter(const CoevalRow& row, const placement::Planne
   return r;
 }
 
-EstimatorEntry filter(const std::string& name, const std::string& summary, std::vector<std::string> keys,
-                      FilterRow f) {
+EstimatorEntry filter(const std::string& name, const std::string& summary, std::vector<std::string> keys, FilterRow f) {
   EstimatorEntry e;
   e.name = name;
   e.summary = summary;

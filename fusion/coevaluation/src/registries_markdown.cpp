@@ -10,11 +10,8 @@
 namespace losmimo::coevaluation {
 
 namespace {
-std::vector<std::string> quoted(const std::vector<std::string>& items, const std::string& open,
-                                const std::string& close) {
-  std::vector<std::string> out;
-  for (const std::string& i : items) out.push_back(open + i + close);
-  return out;
+std::string quoted(const std::vector<std::string>& items, const std::string& open, const std::string& close) {
+  return common::join_with(items, [&](const std::string& i) { return open + i + close; });
 }
 }  // namespace
 
@@ -24,14 +21,13 @@ std::string registries_markdown() {
       "### Planners\n\n| name | kind | its own sections | positions reach it | what |\n|---|---|---|---|---|\n";
   for (const std::string& name : placement::planner_names()) {
     const placement::PlannerEntry& e = placement::planner_entry(name);
-    md += "| `" + name + "` | " + (e.direct() ? "direct" : "iterative") + " | " +
-          common::join(quoted(e.sections, "`[", "]`")) + " | " + (e.uses_positions && !e.direct() ? "yes" : "no") +
-          " | " + e.summary + " |\n";
+    md += "| `" + name + "` | " + (e.direct() ? "direct" : "iterative") + " | " + quoted(e.sections, "`[", "]`") +
+          " | " + (e.uses_positions && !e.direct() ? "yes" : "no") + " | " + e.summary + " |\n";
   }
   md += "\n### Estimators\n\n| name | its own keys | what |\n|---|---|---|\n";
   for (const std::string& name : estimator_names()) {
     const EstimatorEntry& e = estimator_entry(name);
-    md += "| `" + name + "` | " + common::join(quoted(e.keys, "`", "`")) + " | " + e.summary + " |\n";
+    md += "| `" + name + "` | " + quoted(e.keys, "`", "`") + " | " + e.summary + " |\n";
   }
   md += "\n### Row aliases\n\n| row | planner | estimator |\n|---|---|---|\n";
   for (const RowAlias& a : row_aliases()) {
@@ -43,10 +39,10 @@ std::string registries_markdown() {
 
 std::string registries_help() {
   register_coevaluation_planners();
-  std::vector<std::string> rows;
-  for (const RowAlias& a : row_aliases()) rows.push_back(a.alias + " = " + a.planner + "+" + a.estimator);
+  const std::string rows = common::join_with(
+      row_aliases(), [](const RowAlias& a) { return a.alias + " = " + a.planner + "+" + a.estimator; });
   return "planners: " + common::join(placement::planner_names()) + "\nestimators: " + common::join(estimator_names()) +
-         "\nco-evaluation rows ([coevaluation] algorithms): planner+estimator, or " + common::join(rows) + "\n";
+         "\nco-evaluation rows ([coevaluation] algorithms): planner+estimator, or " + rows + "\n";
 }
 
 }  // namespace losmimo::coevaluation

@@ -31,23 +31,19 @@ std::vector<CoevalRow> parse_rows(const std::string& text, const std::string& wh
 }
 
 std::string row_list(const std::vector<CoevalRow>& rows) {
-  std::vector<std::string> names;
-  for (const CoevalRow& r : rows) names.push_back(r.name);
-  return common::join(names);
+  return common::join_with(rows, [](const CoevalRow& r) { return r.name; });
 }
 
 std::string alias_list() {
-  std::vector<std::string> names;
-  for (const RowAlias& a : row_aliases()) names.push_back(a.alias);
-  return common::join(names);
+  return common::join_with(row_aliases(), [](const RowAlias& a) { return a.alias; });
 }
 
 // The outage sweep runs gd's closed loop only: the point is what the fallback does.
 void require_closed_loop(const std::vector<CoevalRow>& rows, const std::string& field) {
   for (const CoevalRow& r : rows) {
     if (r.planner != "gd" || !estimator_entry(r.estimator).closed_loop) {
-      throw common::FieldError(field, r.name +
-                       ": the outage sweep runs gd's closed loop (gd with ekf, ekf_nofallback, pf or ekf_ceres)");
+      throw common::FieldError(
+          field, r.name + ": the outage sweep runs gd's closed loop (gd with ekf, ekf_nofallback, pf or ekf_ceres)");
     }
   }
 }

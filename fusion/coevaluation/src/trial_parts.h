@@ -23,9 +23,8 @@ localization::FilterConfig filter_config(const CoevaluationSettings& c, const lo
 void not_applicable(experiment::TrialRecord& r, std::initializer_list<experiment::MetricId> metrics);
 
 // The record of gd's closed loop under `config` for row `name` (metrics from its statistics).
-experiment::TrialRecord closed_loop_record(const experiment::ExperimentSettings& s, const std::string& sweep,
-                                           int point, int trial, const std::string& name,
-                                           const fusion::ClosedLoopConfig& config);
+experiment::TrialRecord closed_loop_record(const experiment::ExperimentSettings& s, const std::string& sweep, int point,
+                                           int trial, const std::string& name, const fusion::ClosedLoopConfig& config);
 
 }  // namespace losmimo::coevaluation::detail
 

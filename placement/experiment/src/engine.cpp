@@ -18,7 +18,7 @@ namespace {
 struct PointTask {
   const SweepPoints* sweep;
   int point;
-  const ExperimentExtension* extension;  // nullptr: a built-in sweep
+  const ExperimentExtension* extension;     // nullptr: a built-in sweep
   const ExperimentExtension::TrialFn* run;  // the extension's trial function, bound once per run
 };
 

@@ -57,7 +57,8 @@ bool changes(const ReadingSpec& r, const Algorithm& a) {
 }
 
 bool has_algorithm(const ExperimentSettings& s, const std::string& name) {
-  return std::any_of(s.algorithms.begin(), s.algorithms.end(), [&](const Algorithm& a) { return to_string(a) == name; });
+  return std::any_of(s.algorithms.begin(), s.algorithms.end(),
+                     [&](const Algorithm& a) { return to_string(a) == name; });
 }
 
 }  // namespace

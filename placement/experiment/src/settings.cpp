@@ -38,8 +38,8 @@ Algorithm algorithm_from_string(const std::string& name, const std::string& wher
                              "' computes its placement at once: it runs in [coevaluation] algorithms only");
   }
   if (!e) {
-    throw common::InputError(where + ": unknown algorithm '" + name + "' (known: " +
-                             common::join(iterative_planner_names()) + ")");
+    throw common::InputError(where + ": unknown algorithm '" + name +
+                             "' (known: " + common::join(iterative_planner_names()) + ")");
   }
   return Algorithm(name);
 }
@@ -115,14 +115,6 @@ std::vector<ReadingSpec> parse_readings(const std::string& text, const std::stri
   return readings;
 }
 
-// A list written as "a, b, c".
-template <typename T, typename Name>
-std::string join_names(const std::vector<T>& items, Name name) {
-  std::string out;
-  for (const T& item : items) out += (out.empty() ? "" : ", ") + name(item);
-  return out;
-}
-
 std::vector<common::Key<ExperimentSettings>> experiment_key_list() {
   using K = common::Key<ExperimentSettings>;
   return {
@@ -154,7 +146,9 @@ std::vector<common::Key<ExperimentSettings>> experiment_key_list() {
             if (sweeps.empty()) throw common::InputError(where + ": needs at least one sweep");
             s.sweeps = sweeps;
           },
-          [](const ExperimentSettings& s) { return join_names(s.sweeps, [](const SweepPoints& p) { return p.name; }); },
+          [](const ExperimentSettings& s) {
+            return common::join_with(s.sweeps, [](const SweepPoints& p) { return p.name; });
+          },
           "comma-separated sweep names",
           "the sweeps to run, in order (extensions add more, e.g. fusion's beacon_noise_m)", "sigma_act_m"),
       K::text(
@@ -171,7 +165,7 @@ std::vector<common::Key<ExperimentSettings>> experiment_key_list() {
             if (s.algorithms.empty()) throw common::InputError(where + ": needs at least one algorithm");
           },
           [](const ExperimentSettings& s) {
-            return join_names(s.algorithms, [](const Algorithm& a) { return to_string(a); });
+            return common::join_with(s.algorithms, [](const Algorithm& a) { return to_string(a); });
           },
           "comma-separated: " + common::join(iterative_planner_names()),
           "the built-in sweeps' algorithms (default: all but ura_lattice_exact and cap)", "gd, bf"),

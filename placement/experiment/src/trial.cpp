@@ -53,8 +53,8 @@ namespace {
 // run_algorithm; `seed_free` (optional) is set to whether the run took nothing from its seed
 // (SeedFreeRuns): no normal draw, and no position estimate under a localization error.
 placement::RunResult run_algorithm_on_swarm(const ExperimentSettings& s, const placement::PlacementSettings& p,
-                                            const Algorithm& a, int trial, const Eigen::Matrix3Xd& start, std::uint64_t seed,
-                                            placement::RunOptions run, bool* seed_free) {
+                                            const Algorithm& a, int trial, const Eigen::Matrix3Xd& start,
+                                            std::uint64_t seed, placement::RunOptions run, bool* seed_free) {
   const placement::PlannerEntry& entry = a.entry();
   if (entry.direct()) {  // computed at once from the start: no swarm, no draw
     if (seed_free) *seed_free = true;
@@ -78,8 +78,8 @@ placement::RunResult run_algorithm_on_swarm(const ExperimentSettings& s, const p
 }
 }  // namespace
 
-placement::RunResult run_algorithm(const ExperimentSettings& s, const placement::PlacementSettings& p, const Algorithm& a,
-                                   int trial, const Eigen::Matrix3Xd& start, std::uint64_t seed,
+placement::RunResult run_algorithm(const ExperimentSettings& s, const placement::PlacementSettings& p,
+                                   const Algorithm& a, int trial, const Eigen::Matrix3Xd& start, std::uint64_t seed,
                                    placement::RunOptions run) {
   return run_algorithm_on_swarm(s, p, a, trial, start, seed, run, nullptr);
 }

@@ -115,9 +115,9 @@ TrialRecord make_record(const ExperimentSettings& settings, const placement::Pla
 // The runs of one experiment that take nothing from their seed, one record per (algorithm,
 // trial), shared by the sweep points that would repeat them; safe to use from several threads.
 // A run is seed-free when no channel conditions are active, sigma_act_m is 0 and either
-// sigma_loc_m is 0 or the algorithm never estimates a position (its planner does not use positions: bf, random): then it draws no
-// number, and its record differs between those points only in sweep, value and seed. Whichever
-// point computes it first stores it; one computed twice (two threads at once) is the same.
+// sigma_loc_m is 0 or the algorithm never estimates a position (its planner does not use positions: bf, random): then
+// it draws no number, and its record differs between those points only in sweep, value and seed. Whichever point
+// computes it first stores it; one computed twice (two threads at once) is the same.
 class SeedFreeRuns {
  public:
   // Whether algorithm a under placement settings p is seed-free (above).
