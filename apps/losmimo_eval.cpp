@@ -2,8 +2,8 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "losmimo/apps/eval_app.h"
-#include "losmimo/apps/exit_codes.h"
+#include "losmimo/apps/lib/eval_app.h"
+#include "losmimo/apps/lib/exit_codes.h"
 #include "version_flag.h"
 
 int main(int argc, char** argv) {

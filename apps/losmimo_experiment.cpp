@@ -17,13 +17,13 @@
 #include <mpi.h>
 #endif
 
-#include "losmimo/apps/exit_codes.h"
-#include "losmimo/apps/experiment_app.h"
-#include "losmimo/apps/experiment_scene.h"
-#include "losmimo/coevaluation/extensions.h"
-#include "losmimo/coevaluation/registries_markdown.h"
-#include "losmimo/experiment/channel_sweeps.h"
-#include "losmimo/experiment/num_uavs_sweep.h"
+#include "losmimo/apps/lib/exit_codes.h"
+#include "losmimo/apps/lib/experiment_app.h"
+#include "losmimo/apps/lib/experiment_scene.h"
+#include "losmimo/fusion/coevaluation/extensions.h"
+#include "losmimo/fusion/coevaluation/registries_markdown.h"
+#include "losmimo/placement/experiment/channel_sweeps.h"
+#include "losmimo/placement/experiment/num_uavs_sweep.h"
 #include "version_flag.h"
 
 namespace {

@@ -4,8 +4,8 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "losmimo/apps/exit_codes.h"
-#include "losmimo/apps/record_app.h"
+#include "losmimo/apps/lib/exit_codes.h"
+#include "losmimo/apps/lib/record_app.h"
 #include "version_flag.h"
 
 int main(int argc, char** argv) {

@@ -6,8 +6,8 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "losmimo/apps/exit_codes.h"
-#include "losmimo/apps/replay_app.h"
+#include "losmimo/apps/lib/exit_codes.h"
+#include "losmimo/apps/lib/replay_app.h"
 #include "version_flag.h"
 
 int main(int argc, char** argv) {

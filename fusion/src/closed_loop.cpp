@@ -1,4 +1,4 @@
-#include "losmimo/common/seed.h"
+#include "losmimo/placement/common/seed.h"
 #include "losmimo/fusion/closed_loop.h"
 
 #include <Eigen/Cholesky>

@@ -5,8 +5,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "losmimo/common/field_error.h"
-#include "losmimo/common/range.h"
+#include "losmimo/placement/common/field_error.h"
+#include "losmimo/placement/common/range.h"
 
 namespace losmimo::fusion {
 

@@ -1,5 +1,5 @@
 #include "losmimo/fusion/closed_loop_settings.h"
-#include "losmimo/common/text.h"
+#include "losmimo/placement/common/text.h"
 
 #include <limits>
 #include <sstream>

@@ -8,7 +8,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "losmimo/common/field_error.h"
+#include "losmimo/placement/common/field_error.h"
 #include "losmimo/fusion/pose_cost_functors.h"
 #include "losmimo/localization/position/beacon_model.h"
 #include "losmimo/localization/pose/robustness.h"

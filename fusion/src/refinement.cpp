@@ -9,7 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "losmimo/common/field_error.h"
+#include "losmimo/placement/common/field_error.h"
 #include "losmimo/fusion/cost_functors.h"
 #include "solver_options.h"
 

@@ -1,6 +1,6 @@
 #include "losmimo/localization/filter_config.h"
 
-#include "losmimo/common/field_error.h"
+#include "losmimo/placement/common/field_error.h"
 
 namespace losmimo::localization {
 

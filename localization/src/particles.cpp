@@ -1,6 +1,6 @@
 #include "losmimo/localization/particles.h"
 
-#include "losmimo/common/seed.h"
+#include "losmimo/placement/common/seed.h"
 
 namespace losmimo::localization {
 

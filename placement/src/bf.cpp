@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "losmimo/common/range.h"
+#include "losmimo/placement/common/range.h"
 #include "belief_sweep.h"
 
 namespace losmimo::placement {

@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/common/field_error.h"
-#include "losmimo/common/format.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/common/seed.h"
+#include "losmimo/placement/common/field_error.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/placement/common/seed.h"
 #include "losmimo/placement/kernels.h"
 
 namespace losmimo::placement {

@@ -4,7 +4,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "losmimo/common/range.h"
+#include "losmimo/placement/common/range.h"
 #include "belief_sweep.h"
 
 namespace losmimo::placement {

@@ -1,6 +1,6 @@
 #include "losmimo/placement/isa.h"
 
-#include "losmimo/common/text.h"
+#include "losmimo/placement/common/text.h"
 
 #include <cstdlib>
 #include <iterator>

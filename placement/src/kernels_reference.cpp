@@ -5,7 +5,7 @@
 #include <complex>
 #include <vector>
 
-#include "losmimo/common/seed.h"
+#include "losmimo/placement/common/seed.h"
 #include "losmimo/placement/kernels.h"
 
 namespace losmimo::placement::kernels {

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "losmimo/common/text.h"
+#include "losmimo/placement/common/text.h"
 #include "losmimo/placement/bf.h"
 #include "losmimo/placement/capacity.h"
 #include "losmimo/placement/channel.h"

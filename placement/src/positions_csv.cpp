@@ -1,5 +1,5 @@
-#include "losmimo/common/bounded_read.h"
-#include "losmimo/common/input_error.h"
+#include "losmimo/placement/common/bounded_read.h"
+#include "losmimo/placement/common/input_error.h"
 #include "losmimo/placement/positions_csv.h"
 
 #include <cmath>

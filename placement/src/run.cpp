@@ -8,7 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "losmimo/common/range.h"
+#include "losmimo/placement/common/range.h"
 #include "losmimo/placement/metrics.h"
 #include "finite.h"
 

@@ -4,8 +4,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "losmimo/common/field_error.h"
-#include "losmimo/common/format.h"
+#include "losmimo/placement/common/field_error.h"
+#include "losmimo/placement/common/format.h"
 
 namespace losmimo::placement {
 

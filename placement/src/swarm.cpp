@@ -5,9 +5,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "losmimo/common/field_error.h"
-#include "losmimo/common/range.h"
-#include "losmimo/common/seed.h"
+#include "losmimo/placement/common/field_error.h"
+#include "losmimo/placement/common/range.h"
+#include "losmimo/placement/common/seed.h"
 
 namespace losmimo::placement {
 

@@ -5,7 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "losmimo/common/field_error.h"
+#include "losmimo/placement/common/field_error.h"
 #include "losmimo/placement/assignment.h"
 
 namespace losmimo::placement {

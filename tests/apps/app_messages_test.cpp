@@ -11,8 +11,8 @@
 #include <sstream>
 #include <string>
 
-#include "losmimo/apps/eval_app.h"
-#include "losmimo/apps/experiment_app.h"
+#include "losmimo/apps/lib/eval_app.h"
+#include "losmimo/apps/lib/experiment_app.h"
 #include "in_process.h"
 
 namespace losmimo::apps {

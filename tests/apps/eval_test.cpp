@@ -4,7 +4,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "losmimo/apps/eval_app.h"
+#include "losmimo/apps/lib/eval_app.h"
 
 namespace {
 const std::string kExamples = std::string(LOSMIMO_SOURCE_DIR) + "/datasets/examples/";

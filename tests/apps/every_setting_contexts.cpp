@@ -10,14 +10,14 @@
 #include <vector>
 
 #include "apps/every_setting_walker.h"
-#include "losmimo/apps/eval_app.h"
-#include "losmimo/apps/experiment_app.h"
-#include "losmimo/apps/record_app.h"
-#include "losmimo/coevaluation/coevaluation.h"
-#include "losmimo/coevaluation/extensions.h"
-#include "losmimo/experiment/channel_sweeps.h"
-#include "losmimo/experiment/num_uavs_sweep.h"
-#include "losmimo/rawlog/log.h"
+#include "losmimo/apps/lib/eval_app.h"
+#include "losmimo/apps/lib/experiment_app.h"
+#include "losmimo/apps/lib/record_app.h"
+#include "losmimo/fusion/coevaluation/coevaluation.h"
+#include "losmimo/fusion/coevaluation/extensions.h"
+#include "losmimo/placement/experiment/channel_sweeps.h"
+#include "losmimo/placement/experiment/num_uavs_sweep.h"
+#include "losmimo/fusion/rawlog/mission/log.h"
 #include "support/files.h"
 
 namespace losmimo::every_setting {

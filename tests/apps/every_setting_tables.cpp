@@ -1,10 +1,10 @@
 // The settings walker's tables (every_setting_walker.h): the keys that only change figures or
 // logging, the regimes, the conditions and the values tried.
 #include "apps/every_setting_walker.h"
-#include "losmimo/coevaluation/coevaluation.h"
-#include "losmimo/experiment/channel_sweeps.h"
-#include "losmimo/experiment/num_uavs_sweep.h"
-#include "losmimo/experiment/settings.h"
+#include "losmimo/fusion/coevaluation/coevaluation.h"
+#include "losmimo/placement/experiment/channel_sweeps.h"
+#include "losmimo/placement/experiment/num_uavs_sweep.h"
+#include "losmimo/placement/experiment/settings.h"
 
 namespace losmimo::every_setting {
 

@@ -12,8 +12,8 @@
 #include <utility>
 #include <vector>
 
-#include "losmimo/common/format.h"
-#include "losmimo/common/key_table.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/key_table.h"
 
 namespace losmimo::every_setting {
 

@@ -9,10 +9,10 @@
 #include <vector>
 
 #include "apps/every_setting_walker.h"
-#include "losmimo/apps/eval_app.h"
-#include "losmimo/common/ini_config.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/experiment/settings.h"
+#include "losmimo/apps/lib/eval_app.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/placement/experiment/settings.h"
 
 namespace losmimo::every_setting {
 namespace {

@@ -10,11 +10,11 @@
 #include <sstream>
 #include <unistd.h>
 
-#include "losmimo/apps/experiment_app.h"
+#include "losmimo/apps/lib/experiment_app.h"
 #include "in_process.h"
-#include "losmimo/experiment/channel_sweeps.h"
-#include "losmimo/experiment/engine.h"
-#include "losmimo/experiment/summary.h"
+#include "losmimo/placement/experiment/channel_sweeps.h"
+#include "losmimo/placement/experiment/engine.h"
+#include "losmimo/placement/experiment/summary.h"
 #include "losmimo/placement/capacity.h"
 #include "losmimo/placement/metrics.h"
 

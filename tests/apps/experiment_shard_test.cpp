@@ -13,13 +13,13 @@
 #include <unistd.h>
 #include <vector>
 
-#include "losmimo/apps/experiment_app.h"
+#include "losmimo/apps/lib/experiment_app.h"
 #include "in_process.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/experiment/engine.h"
-#include "losmimo/experiment/records.h"
-#include "losmimo/experiment/shards.h"
-#include "losmimo/experiment/summary.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/placement/experiment/engine.h"
+#include "losmimo/placement/experiment/records.h"
+#include "losmimo/placement/experiment/shards.h"
+#include "losmimo/placement/experiment/summary.h"
 #include "losmimo/placement/isa.h"
 
 namespace lp = losmimo::placement;

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/apps/experiment_app.h"
+#include "losmimo/apps/lib/experiment_app.h"
 
 namespace losmimo::test_support {
 

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/apps/eval_app.h"
-#include "losmimo/common/ini_config.h"
-#include "losmimo/experiment/extension.h"
+#include "losmimo/apps/lib/eval_app.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/experiment/extension.h"
 #include "losmimo/placement/positions_csv.h"
 #include "losmimo/placement/settings.h"
 

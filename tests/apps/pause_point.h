@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "losmimo/common/test_hook.h"
+#include "losmimo/placement/common/test_hook.h"
 #include "support/child_process.h"
 
 namespace losmimo::test_support {

@@ -11,12 +11,12 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/apps/experiment_app.h"
+#include "losmimo/apps/lib/experiment_app.h"
 #include "in_process.h"
-#include "losmimo/common/format.h"
-#include "losmimo/common/hash.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/experiment/records.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/hash.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/placement/experiment/records.h"
 #include "support/files.h"
 
 namespace losmimo::experiment {

@@ -11,12 +11,12 @@
 #include <sstream>
 #include <unistd.h>
 
-#include "losmimo/apps/experiment_app.h"
-#include "losmimo/coevaluation/coevaluation.h"
-#include "losmimo/coevaluation/extensions.h"
-#include "losmimo/common/ini_config.h"
-#include "losmimo/experiment/engine.h"
-#include "losmimo/experiment/summary.h"
+#include "losmimo/apps/lib/experiment_app.h"
+#include "losmimo/fusion/coevaluation/coevaluation.h"
+#include "losmimo/fusion/coevaluation/extensions.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/experiment/engine.h"
+#include "losmimo/placement/experiment/summary.h"
 
 namespace losmimo::coevaluation {
 namespace {

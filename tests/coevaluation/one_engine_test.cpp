@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/coevaluation/coevaluation.h"
-#include "losmimo/coevaluation/extensions.h"
-#include "losmimo/common/ini_config.h"
-#include "losmimo/experiment/trial.h"
+#include "losmimo/fusion/coevaluation/coevaluation.h"
+#include "losmimo/fusion/coevaluation/extensions.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/experiment/trial.h"
 #include "losmimo/fusion/closed_loop.h"
 
 namespace losmimo::coevaluation {

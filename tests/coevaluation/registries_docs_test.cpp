@@ -7,8 +7,8 @@
 #include <fstream>
 #include <string>
 
-#include "losmimo/coevaluation/estimator_registry.h"
-#include "losmimo/coevaluation/registries_markdown.h"
+#include "losmimo/fusion/coevaluation/estimator_registry.h"
+#include "losmimo/fusion/coevaluation/registries_markdown.h"
 #include "losmimo/placement/planner_registry.h"
 #include "support/files.h"
 

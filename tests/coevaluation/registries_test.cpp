@@ -8,13 +8,13 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/coevaluation/coevaluation.h"
-#include "losmimo/coevaluation/estimator_registry.h"
-#include "losmimo/coevaluation/extensions.h"
-#include "losmimo/common/ini_config.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/experiment/engine.h"
-#include "losmimo/experiment/trial.h"
+#include "losmimo/fusion/coevaluation/coevaluation.h"
+#include "losmimo/fusion/coevaluation/estimator_registry.h"
+#include "losmimo/fusion/coevaluation/extensions.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/placement/experiment/engine.h"
+#include "losmimo/placement/experiment/trial.h"
 #include "losmimo/placement/planner_registry.h"
 
 namespace losmimo::coevaluation {

@@ -4,9 +4,9 @@
 
 #include <string>
 
-#include "losmimo/coevaluation/coevaluation.h"
-#include "losmimo/coevaluation/extensions.h"
-#include "losmimo/common/ini_config.h"
+#include "losmimo/fusion/coevaluation/coevaluation.h"
+#include "losmimo/fusion/coevaluation/extensions.h"
+#include "losmimo/placement/common/ini_config.h"
 #include "losmimo/fusion/closed_loop_settings.h"
 
 namespace losmimo::coevaluation {

@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/common/ini_config.h"
+#include "losmimo/placement/common/ini_config.h"
 #include "support/input_error.h"
 
 using losmimo::test_support::expect_input_error;

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/common/key_table.h"
+#include "losmimo/placement/common/key_table.h"
 
 namespace losmimo::common {
 namespace {

@@ -3,7 +3,7 @@
 // This file compiles that no-op variant (LOSMIMO_TEST_HOOKS defined 0 before the header); it
 // lives in its own inline namespace, so it cannot collide with the library's real hook.
 #define LOSMIMO_TEST_HOOKS 0
-#include "losmimo/common/test_hook.h"
+#include "losmimo/placement/common/test_hook.h"
 
 #include <gtest/gtest.h>
 #include <signal.h>

@@ -6,7 +6,7 @@
 #include <random>
 #include <string>
 
-#include "losmimo/common/ini_config.h"
+#include "losmimo/placement/common/ini_config.h"
 #include "losmimo/placement/channel.h"
 #include "losmimo/placement/gd.h"
 #include "losmimo/placement/metrics.h"

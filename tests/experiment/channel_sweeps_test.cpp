@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/common/ini_config.h"
-#include "losmimo/experiment/channel_sweeps.h"
-#include "losmimo/experiment/settings.h"
-#include "losmimo/experiment/trial.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/experiment/channel_sweeps.h"
+#include "losmimo/placement/experiment/settings.h"
+#include "losmimo/placement/experiment/trial.h"
 #include "losmimo/placement/channel.h"
 #include "losmimo/placement/metrics.h"
 

@@ -9,14 +9,14 @@
 #include <stdexcept>
 #include <string>
 
-#include "losmimo/common/ini_config.h"
-#include "losmimo/experiment/channel_sweeps.h"
-#include "losmimo/experiment/csv.h"
-#include "losmimo/experiment/engine.h"
-#include "losmimo/experiment/extension.h"
-#include "losmimo/experiment/metrics.h"
-#include "losmimo/experiment/records.h"
-#include "losmimo/experiment/summary.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/experiment/channel_sweeps.h"
+#include "losmimo/placement/experiment/csv.h"
+#include "losmimo/placement/experiment/engine.h"
+#include "losmimo/placement/experiment/extension.h"
+#include "losmimo/placement/experiment/metrics.h"
+#include "losmimo/placement/experiment/records.h"
+#include "losmimo/placement/experiment/summary.h"
 
 namespace losmimo::experiment {
 namespace {

@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/common/ini_config.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/experiment/capacity_claims.h"
-#include "losmimo/experiment/engine.h"
-#include "losmimo/experiment/num_uavs_sweep.h"
-#include "losmimo/experiment/settings.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/placement/experiment/capacity_claims.h"
+#include "losmimo/placement/experiment/engine.h"
+#include "losmimo/placement/experiment/num_uavs_sweep.h"
+#include "losmimo/placement/experiment/settings.h"
 #include "losmimo/placement/channel.h"
 #include "losmimo/placement/ura.h"
 

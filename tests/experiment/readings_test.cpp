@@ -7,11 +7,11 @@
 #include <cmath>
 #include <sstream>
 
-#include "losmimo/common/ini_config.h"
-#include "losmimo/experiment/engine.h"
-#include "losmimo/experiment/extension.h"
-#include "losmimo/experiment/paths.h"
-#include "losmimo/experiment/readings.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/experiment/engine.h"
+#include "losmimo/placement/experiment/extension.h"
+#include "losmimo/placement/experiment/paths.h"
+#include "losmimo/placement/experiment/readings.h"
 
 namespace le = losmimo::experiment;
 

@@ -3,9 +3,9 @@
 // afresh at every point, field by field, and against the rule's limits.
 #include <gtest/gtest.h>
 
-#include "losmimo/common/ini_config.h"
-#include "losmimo/experiment/extension.h"
-#include "losmimo/experiment/trial.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/experiment/extension.h"
+#include "losmimo/placement/experiment/trial.h"
 
 namespace le = losmimo::experiment;
 

@@ -4,9 +4,9 @@
 
 #include <string>
 
-#include "losmimo/common/ini_config.h"
-#include "losmimo/experiment/extension.h"
-#include "losmimo/experiment/settings.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/experiment/extension.h"
+#include "losmimo/placement/experiment/settings.h"
 
 namespace losmimo::experiment {
 namespace {

@@ -2,8 +2,8 @@
 
 #include <string>
 
-#include "losmimo/common/ini_config.h"
-#include "losmimo/experiment/extension.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/experiment/extension.h"
 #include "losmimo/placement/settings.h"
 
 namespace lp = losmimo::placement;

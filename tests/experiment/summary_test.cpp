@@ -3,7 +3,7 @@
 #include <cmath>
 #include <vector>
 
-#include "losmimo/experiment/summary.h"
+#include "losmimo/placement/experiment/summary.h"
 
 namespace le = losmimo::experiment;
 

@@ -12,7 +12,7 @@
 
 #include "losmimo/fusion/closed_loop.h"
 #include "losmimo/localization/position/robustness.h"
-#include "losmimo/common/input_error.h"
+#include "losmimo/placement/common/input_error.h"
 #include "fusion/closed_loop_fixtures.h"
 
 namespace losmimo::fusion {

@@ -10,7 +10,7 @@
 
 #include "fusion/gradient_probe.h"
 #include "fusion/range_track_simulator.h"
-#include "losmimo/common/field_error.h"
+#include "losmimo/placement/common/field_error.h"
 #include "losmimo/fusion/pose_cost_functors.h"
 #include "losmimo/fusion/range_smoother.h"
 #include "losmimo/localization/position/beacon_model.h"

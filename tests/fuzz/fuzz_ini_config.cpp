@@ -15,8 +15,8 @@
 #include <string>
 
 #include "losmimo/placement/channel.h"
-#include "losmimo/experiment/extension.h"
-#include "losmimo/common/ini_config.h"
+#include "losmimo/placement/experiment/extension.h"
+#include "losmimo/placement/common/ini_config.h"
 
 namespace lp = losmimo::placement;
 

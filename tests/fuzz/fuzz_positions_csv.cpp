@@ -19,8 +19,8 @@
 #include <sstream>
 #include <string>
 
-#include "losmimo/apps/eval_app.h"
-#include "losmimo/common/input_error.h"
+#include "losmimo/apps/lib/eval_app.h"
+#include "losmimo/placement/common/input_error.h"
 #include "losmimo/placement/positions_csv.h"
 
 namespace lp = losmimo::placement;

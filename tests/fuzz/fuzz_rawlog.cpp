@@ -23,9 +23,9 @@
 #include <cstdint>
 #include <string>
 
-#include "losmimo/common/input_error.h"
-#include "losmimo/rawlog/log.h"
-#include "losmimo/rawlog_io/reader.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/fusion/rawlog/mission/log.h"
+#include "losmimo/fusion/rawlog/io/reader.h"
 
 namespace lr = losmimo::rawlog;
 namespace io = losmimo::rawlog_io;

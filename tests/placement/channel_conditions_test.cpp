@@ -7,8 +7,8 @@
 #include <cmath>
 #include <random>
 
-#include "losmimo/common/field_error.h"
-#include "losmimo/common/seed.h"
+#include "losmimo/placement/common/field_error.h"
+#include "losmimo/placement/common/seed.h"
 #include "losmimo/placement/bf.h"
 #include "losmimo/placement/channel_conditions.h"
 #include "losmimo/placement/gd.h"

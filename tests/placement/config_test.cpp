@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "losmimo/common/ini_config.h"
+#include "losmimo/placement/common/ini_config.h"
 #include "support/input_error.h"
 #include "losmimo/placement/settings.h"
 

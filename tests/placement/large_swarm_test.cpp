@@ -7,9 +7,9 @@
 #include <cmath>
 #include <random>
 
-#include "losmimo/common/ini_config.h"
+#include "losmimo/placement/common/ini_config.h"
 #include "losmimo/placement/gd.h"
-#include "losmimo/common/input_error.h"
+#include "losmimo/placement/common/input_error.h"
 #include "losmimo/placement/metrics.h"
 #include "losmimo/placement/settings.h"
 #include "losmimo/placement/ura.h"

@@ -5,8 +5,8 @@
 #include <limits>
 #include <string>
 
-#include "losmimo/common/field_error.h"
-#include "losmimo/common/ini_config.h"
+#include "losmimo/placement/common/field_error.h"
+#include "losmimo/placement/common/ini_config.h"
 #include "losmimo/placement/settings.h"
 
 namespace losmimo::placement {

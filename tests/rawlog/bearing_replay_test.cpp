@@ -8,10 +8,10 @@
 #include <map>
 #include <sstream>
 
-#include "losmimo/apps/replay_app.h"
+#include "losmimo/apps/lib/replay_app.h"
 #include "losmimo/localization/range_az_el.h"
-#include "losmimo/mrpt_logs/bearing_replay.h"
-#include "losmimo/mrpt_logs/landmark_files.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/bearing_replay.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/landmark_files.h"
 #include "rawlog_test_util.h"
 #include "support/dependencies.h"
 

@@ -7,14 +7,14 @@
 #include <fstream>
 #include <string>
 
-#include "losmimo/apps/unused_keys.h"
-#include "losmimo/coevaluation/coevaluation.h"
-#include "losmimo/experiment/channel_sweeps.h"
-#include "losmimo/experiment/num_uavs_sweep.h"
-#include "losmimo/experiment/settings.h"
+#include "losmimo/apps/lib/unused_keys.h"
+#include "losmimo/fusion/coevaluation/coevaluation.h"
+#include "losmimo/placement/experiment/channel_sweeps.h"
+#include "losmimo/placement/experiment/num_uavs_sweep.h"
+#include "losmimo/placement/experiment/settings.h"
 #include "losmimo/fusion/closed_loop_settings.h"
 #include "losmimo/placement/settings.h"
-#include "losmimo/rawlog/mission.h"
+#include "losmimo/fusion/rawlog/mission/mission.h"
 #include "support/files.h"
 
 namespace losmimo {

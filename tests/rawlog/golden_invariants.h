@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/rawlog/replay.h"
+#include "losmimo/fusion/rawlog/mission/replay.h"
 
 namespace losmimo::rawlog::golden {
 

@@ -6,10 +6,10 @@
 #include <sstream>
 #include <string>
 
-#include "losmimo/apps/record_app.h"
-#include "losmimo/common/ini_config.h"
+#include "losmimo/apps/lib/record_app.h"
+#include "losmimo/placement/common/ini_config.h"
 #include "losmimo/localization/position/filter.h"
-#include "losmimo/rawlog/mission.h"
+#include "losmimo/fusion/rawlog/mission/mission.h"
 #include "fusion/closed_loop_fixtures.h"
 
 namespace losmimo::rawlog {

@@ -5,9 +5,9 @@
 
 #include <string>
 
-#include "losmimo/common/ini_config.h"
+#include "losmimo/placement/common/ini_config.h"
 #include "losmimo/fusion/closed_loop_settings.h"
-#include "losmimo/rawlog/mission.h"
+#include "losmimo/fusion/rawlog/mission/mission.h"
 
 namespace losmimo::rawlog {
 namespace {

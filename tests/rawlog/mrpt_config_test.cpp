@@ -9,11 +9,11 @@
 
 #include <mrpt/poses/CPose2D.h>
 
-#include "losmimo/common/input_error.h"
-#include "losmimo/mrpt_logs/beacon_list.h"
-#include "losmimo/mrpt_logs/mrpt_app_config.h"
-#include "losmimo/mrpt_logs/range_replay.h"
-#include "losmimo/rawlog/recorder.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/beacon_list.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/mrpt_app_config.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/range_replay.h"
+#include "losmimo/fusion/rawlog/mission/recorder.h"
 #include "rawlog_test_util.h"
 #include "support/dependencies.h"
 

@@ -3,9 +3,9 @@
 
 #include <sstream>
 
-#include "losmimo/apps/replay_app.h"
-#include "losmimo/rawlog/format.h"
-#include "losmimo/rawlog/recorder.h"
+#include "losmimo/apps/lib/replay_app.h"
+#include "losmimo/fusion/rawlog/mission/format.h"
+#include "losmimo/fusion/rawlog/mission/recorder.h"
 #include "rawlog_test_util.h"
 
 namespace losmimo::mrpt_logs {

@@ -20,10 +20,10 @@
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include "losmimo/apps/replay_app.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/mrpt_logs/beacon_list.h"
-#include "losmimo/mrpt_logs/range_replay.h"
+#include "losmimo/apps/lib/replay_app.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/beacon_list.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/range_replay.h"
 #include "rawlog_test_util.h"
 #include "support/dependencies.h"
 

@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-#include "losmimo/mrpt_logs/range_replay.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/range_replay.h"
 
 namespace losmimo::mrpt_logs {
 namespace {

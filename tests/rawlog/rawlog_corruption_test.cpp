@@ -17,10 +17,10 @@
 #include <mrpt/obs/CObservationRawDAQ.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include "losmimo/apps/replay_app.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/rawlog/recorder.h"
-#include "losmimo/rawlog/replay.h"
+#include "losmimo/apps/lib/replay_app.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/fusion/rawlog/mission/recorder.h"
+#include "losmimo/fusion/rawlog/mission/replay.h"
 #include "rawlog/rawlog_test_util.h"
 
 namespace losmimo::rawlog {

@@ -16,10 +16,10 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include "fusion/closed_loop_fixtures.h"
-#include "losmimo/apps/replay_app.h"
-#include "losmimo/rawlog/format.h"
-#include "losmimo/rawlog/recorder.h"
-#include "losmimo/rawlog/replay.h"
+#include "losmimo/apps/lib/replay_app.h"
+#include "losmimo/fusion/rawlog/mission/format.h"
+#include "losmimo/fusion/rawlog/mission/recorder.h"
+#include "losmimo/fusion/rawlog/mission/replay.h"
 #include "rawlog/rawlog_test_util.h"
 
 namespace losmimo::rawlog {

@@ -10,12 +10,12 @@
 #include <mrpt/obs/CObservationComment.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include "losmimo/apps/replay_app.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/rawlog/format.h"
-#include "losmimo/rawlog/log.h"
-#include "losmimo/rawlog/recorder.h"
-#include "losmimo/rawlog/replay.h"
+#include "losmimo/apps/lib/replay_app.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/fusion/rawlog/mission/format.h"
+#include "losmimo/fusion/rawlog/mission/log.h"
+#include "losmimo/fusion/rawlog/mission/recorder.h"
+#include "losmimo/fusion/rawlog/mission/replay.h"
 #include "rawlog_test_util.h"
 
 namespace losmimo::rawlog {

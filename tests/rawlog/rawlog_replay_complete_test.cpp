@@ -8,9 +8,9 @@
 
 #include <filesystem>
 
-#include "losmimo/apps/record_app.h"
-#include "losmimo/apps/replay_app.h"
-#include "losmimo/rawlog/recorder.h"
+#include "losmimo/apps/lib/record_app.h"
+#include "losmimo/apps/lib/replay_app.h"
+#include "losmimo/fusion/rawlog/mission/recorder.h"
 #include "rawlog/rawlog_test_util.h"
 
 namespace losmimo::rawlog {

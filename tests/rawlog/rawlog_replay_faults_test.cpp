@@ -14,10 +14,10 @@
 #include <vector>
 
 #include "fusion/closed_loop_fixtures.h"
-#include "losmimo/apps/replay_app.h"
-#include "losmimo/common/ini_config.h"
-#include "losmimo/rawlog/recorder.h"
-#include "losmimo/rawlog/replay.h"
+#include "losmimo/apps/lib/replay_app.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/fusion/rawlog/mission/recorder.h"
+#include "losmimo/fusion/rawlog/mission/replay.h"
 #include "losmimo/placement/metrics.h"
 #include "rawlog/rawlog_test_util.h"
 

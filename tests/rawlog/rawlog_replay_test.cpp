@@ -8,9 +8,9 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "losmimo/apps/replay_app.h"
-#include "losmimo/rawlog/recorder.h"
-#include "losmimo/rawlog/replay.h"
+#include "losmimo/apps/lib/replay_app.h"
+#include "losmimo/fusion/rawlog/mission/recorder.h"
+#include "losmimo/fusion/rawlog/mission/replay.h"
 #include "rawlog/rawlog_test_util.h"
 
 namespace losmimo::rawlog {

@@ -19,13 +19,13 @@
 #include <mrpt/obs/CObservationRawDAQ.h>
 #include <mrpt/obs/CObservationRobotPose.h>
 
-#include "losmimo/apps/record_app.h"
-#include "losmimo/common/ini_config.h"
-#include "losmimo/experiment/extension.h"
-#include "losmimo/rawlog/format.h"
-#include "losmimo/rawlog/log.h"
-#include "losmimo/rawlog/recorder.h"
-#include "losmimo/common/input_error.h"
+#include "losmimo/apps/lib/record_app.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/experiment/extension.h"
+#include "losmimo/fusion/rawlog/mission/format.h"
+#include "losmimo/fusion/rawlog/mission/log.h"
+#include "losmimo/fusion/rawlog/mission/recorder.h"
+#include "losmimo/placement/common/input_error.h"
 #include "rawlog/rawlog_test_util.h"
 #include "support/dependencies.h"
 

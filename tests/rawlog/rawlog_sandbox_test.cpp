@@ -16,10 +16,10 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include "losmimo/apps/replay_app.h"
-#include "losmimo/common/test_hook.h"
-#include "losmimo/rawlog/log.h"
-#include "losmimo/rawlog_io/reader.h"
+#include "losmimo/apps/lib/replay_app.h"
+#include "losmimo/placement/common/test_hook.h"
+#include "losmimo/fusion/rawlog/mission/log.h"
+#include "losmimo/fusion/rawlog/io/reader.h"
 #include "rawlog/rawlog_test_util.h"
 
 namespace losmimo::rawlog_io {

@@ -9,9 +9,9 @@
 
 #include <unistd.h>
 
-#include "losmimo/common/ini_config.h"
-#include "losmimo/rawlog/log.h"
-#include "losmimo/rawlog/mission.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/fusion/rawlog/mission/log.h"
+#include "losmimo/fusion/rawlog/mission/mission.h"
 #include "support/files.h"
 
 namespace losmimo::test_support {

@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <limits>
 
-#include "losmimo/common/seed.h"
-#include "losmimo/rawlog/recorder.h"
+#include "losmimo/placement/common/seed.h"
+#include "losmimo/fusion/rawlog/mission/recorder.h"
 
 namespace losmimo::rawlog {
 namespace {

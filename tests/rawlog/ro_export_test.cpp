@@ -12,10 +12,10 @@
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
 
-#include "losmimo/apps/record_app.h"
-#include "losmimo/mrpt_logs/mrpt_app_config.h"
-#include "losmimo/rawlog/recorder.h"
-#include "losmimo/rawlog/ro_export.h"
+#include "losmimo/apps/lib/record_app.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/mrpt_app_config.h"
+#include "losmimo/fusion/rawlog/mission/recorder.h"
+#include "losmimo/fusion/rawlog/mission/ro_export.h"
 #include "rawlog_test_util.h"
 #include "support/input_error.h"
 

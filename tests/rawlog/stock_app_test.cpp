@@ -10,8 +10,8 @@
 #include <regex>
 #include <sstream>
 
-#include "losmimo/mrpt_logs/mrpt_app_config.h"
-#include "losmimo/mrpt_logs/range_replay.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/mrpt_app_config.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/range_replay.h"
 #include "rawlog_test_util.h"
 #include "support/dependencies.h"
 

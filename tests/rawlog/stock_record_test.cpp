@@ -17,9 +17,9 @@
 #include <regex>
 #include <sstream>
 
-#include "losmimo/rawlog/format.h"
-#include "losmimo/rawlog/log.h"
-#include "losmimo/rawlog/recorder.h"
+#include "losmimo/fusion/rawlog/mission/format.h"
+#include "losmimo/fusion/rawlog/mission/log.h"
+#include "losmimo/fusion/rawlog/mission/recorder.h"
 #include "rawlog_test_util.h"
 #include "support/dependencies.h"
 

@@ -26,8 +26,8 @@
 #include <regex>
 #include <sstream>
 
-#include "losmimo/apps/record_app.h"
-#include "losmimo/rawlog/ro_export.h"
+#include "losmimo/apps/lib/record_app.h"
+#include "losmimo/fusion/rawlog/mission/ro_export.h"
 #include "rawlog_test_util.h"
 #include "support/dependencies.h"
 

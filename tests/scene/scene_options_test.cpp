@@ -6,10 +6,10 @@
 #include <fstream>
 #include <sstream>
 
-#include "losmimo/apps/experiment_app.h"
-#include "losmimo/apps/experiment_scene.h"
-#include "losmimo/apps/record_app.h"
-#include "losmimo/apps/replay_app.h"
+#include "losmimo/apps/lib/experiment_app.h"
+#include "losmimo/apps/lib/experiment_scene.h"
+#include "losmimo/apps/lib/record_app.h"
+#include "losmimo/apps/lib/replay_app.h"
 #include "temp_dir.h"
 
 namespace losmimo {

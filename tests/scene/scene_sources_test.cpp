@@ -11,12 +11,12 @@
 #include <sstream>
 
 #include "csv_table.h"
-#include "losmimo/apps/experiment_app.h"
-#include "losmimo/apps/experiment_scene.h"
-#include "losmimo/apps/record_app.h"
-#include "losmimo/apps/replay_app.h"
-#include "losmimo/rawlog/log.h"
-#include "losmimo/rawlog_io/reader.h"
+#include "losmimo/apps/lib/experiment_app.h"
+#include "losmimo/apps/lib/experiment_scene.h"
+#include "losmimo/apps/lib/record_app.h"
+#include "losmimo/apps/lib/replay_app.h"
+#include "losmimo/fusion/rawlog/mission/log.h"
+#include "losmimo/fusion/rawlog/io/reader.h"
 #include "scene_reader.h"
 #include "temp_dir.h"
 #include "support/dependencies.h"

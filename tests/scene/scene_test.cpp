@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include <mrpt/opengl/CText.h>
-#include "losmimo/scene/scene.h"
+#include "losmimo/fusion/scene/scene.h"
 #include "scene_reader.h"
 #include "temp_dir.h"
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/common/input_error.h"
+#include "losmimo/placement/common/input_error.h"
 
 namespace losmimo::test_support {
 

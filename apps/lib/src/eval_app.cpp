@@ -1,13 +1,13 @@
-#include "losmimo/apps/eval_app.h"
+#include "losmimo/apps/lib/eval_app.h"
 
 #include <cmath>
 #include <iomanip>
 #include <ostream>
 
-#include "losmimo/apps/exit_codes.h"
-#include "losmimo/apps/unused_keys.h"
-#include "losmimo/common/ini_config.h"
-#include "losmimo/experiment/extension.h"
+#include "losmimo/apps/lib/exit_codes.h"
+#include "losmimo/apps/lib/unused_keys.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/experiment/extension.h"
 #include "losmimo/placement/channel.h"
 #include "losmimo/placement/metrics.h"
 #include "losmimo/placement/positions_csv.h"

@@ -1,4 +1,4 @@
-#include "losmimo/apps/experiment_app.h"
+#include "losmimo/apps/lib/experiment_app.h"
 
 #include <algorithm>
 #include <chrono>
@@ -11,19 +11,19 @@
 #include <tuple>
 
 #include "experiment_common.h"
-#include "losmimo/apps/exit_codes.h"
-#include "losmimo/apps/unused_keys.h"
-#include "losmimo/common/atomic_file.h"
-#include "losmimo/common/format.h"
-#include "losmimo/common/ini_config.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/apps/staged_output.h"
-#include "losmimo/common/test_hook.h"
-#include "losmimo/experiment/csv.h"
-#include "losmimo/experiment/records.h"
-#include "losmimo/experiment/report.h"
-#include "losmimo/experiment/run_folder.h"
-#include "losmimo/experiment/shards.h"
+#include "losmimo/apps/lib/exit_codes.h"
+#include "losmimo/apps/lib/unused_keys.h"
+#include "losmimo/placement/common/atomic_file.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/apps/lib/staged_output.h"
+#include "losmimo/placement/common/test_hook.h"
+#include "losmimo/placement/experiment/csv.h"
+#include "losmimo/placement/experiment/records.h"
+#include "losmimo/placement/experiment/report.h"
+#include "losmimo/placement/experiment/run_folder.h"
+#include "losmimo/placement/experiment/shards.h"
 #include "kernel_isa.h"
 #include "messages.h"
 

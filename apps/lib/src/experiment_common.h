@@ -10,13 +10,13 @@
 
 #include <unistd.h>
 
-#include "losmimo/common/atomic_file.h"
-#include "losmimo/common/format.h"
-#include "losmimo/apps/staged_output.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/experiment/engine.h"
-#include "losmimo/experiment/report.h"
-#include "losmimo/experiment/run_folder.h"
+#include "losmimo/placement/common/atomic_file.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/apps/lib/staged_output.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/placement/experiment/engine.h"
+#include "losmimo/placement/experiment/report.h"
+#include "losmimo/placement/experiment/run_folder.h"
 
 namespace losmimo::apps::detail {
 

@@ -1,9 +1,9 @@
-#include "losmimo/apps/experiment_scene.h"
+#include "losmimo/apps/lib/experiment_scene.h"
 
 #include <cstdio>
 
-#include "losmimo/common/format.h"
-#include "losmimo/experiment/paths.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/experiment/paths.h"
 #include "losmimo/placement/scenario.h"
 
 namespace losmimo::apps {

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "losmimo/common/input_error.h"
+#include "losmimo/placement/common/input_error.h"
 #include "losmimo/placement/isa.h"
 
 namespace losmimo::apps {

@@ -5,14 +5,14 @@
 #include <map>
 
 #include "experiment_common.h"
-#include "losmimo/apps/exit_codes.h"
-#include "losmimo/apps/experiment_app.h"
-#include "losmimo/common/bounded_read.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/apps/staged_output.h"
-#include "losmimo/experiment/records.h"
-#include "losmimo/experiment/run_folder.h"
-#include "losmimo/experiment/shards.h"
+#include "losmimo/apps/lib/exit_codes.h"
+#include "losmimo/apps/lib/experiment_app.h"
+#include "losmimo/placement/common/bounded_read.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/apps/lib/staged_output.h"
+#include "losmimo/placement/experiment/records.h"
+#include "losmimo/placement/experiment/run_folder.h"
+#include "losmimo/placement/experiment/shards.h"
 #include "messages.h"
 
 namespace losmimo::apps {

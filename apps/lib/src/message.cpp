@@ -1,4 +1,4 @@
-#include "losmimo/apps/message.h"
+#include "losmimo/apps/lib/message.h"
 
 #include <cstdio>
 

@@ -6,10 +6,10 @@
 #include <ostream>
 #include <string>
 
-#include "losmimo/apps/exit_codes.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/apps/message.h"
-#include "losmimo/apps/staged_output.h"
+#include "losmimo/apps/lib/exit_codes.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/apps/lib/message.h"
+#include "losmimo/apps/lib/staged_output.h"
 
 namespace losmimo::apps {
 

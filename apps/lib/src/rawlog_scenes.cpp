@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "losmimo/placement/scenario.h"
-#include "losmimo/rawlog/recorder.h"
+#include "losmimo/fusion/rawlog/mission/recorder.h"
 
 namespace losmimo::apps {
 

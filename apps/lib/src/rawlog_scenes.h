@@ -3,11 +3,11 @@
 #include <string>
 
 #include "losmimo/localization/pose/range_model.h"
-#include "losmimo/mrpt_logs/bearing_replay.h"
-#include "losmimo/mrpt_logs/range_replay.h"
-#include "losmimo/rawlog/log.h"
-#include "losmimo/rawlog/replay.h"
-#include "losmimo/scene/scene.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/bearing_replay.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/range_replay.h"
+#include "losmimo/fusion/rawlog/mission/log.h"
+#include "losmimo/fusion/rawlog/mission/replay.h"
+#include "losmimo/fusion/scene/scene.h"
 
 namespace losmimo::apps {
 

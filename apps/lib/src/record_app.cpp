@@ -1,4 +1,4 @@
-#include "losmimo/apps/record_app.h"
+#include "losmimo/apps/lib/record_app.h"
 
 #include <filesystem>
 #include <fstream>
@@ -6,16 +6,16 @@
 #include <ostream>
 #include <set>
 
-#include "losmimo/apps/exit_codes.h"
-#include "losmimo/apps/unused_keys.h"
-#include "losmimo/coevaluation/extensions.h"
-#include "losmimo/common/ini_config.h"
-#include "losmimo/apps/staged_output.h"
-#include "losmimo/common/test_hook.h"
-#include "losmimo/experiment/extension.h"
-#include "losmimo/rawlog/log.h"
-#include "losmimo/rawlog/recorder.h"
-#include "losmimo/rawlog_io/reader.h"
+#include "losmimo/apps/lib/exit_codes.h"
+#include "losmimo/apps/lib/unused_keys.h"
+#include "losmimo/fusion/coevaluation/extensions.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/apps/lib/staged_output.h"
+#include "losmimo/placement/common/test_hook.h"
+#include "losmimo/placement/experiment/extension.h"
+#include "losmimo/fusion/rawlog/mission/log.h"
+#include "losmimo/fusion/rawlog/mission/recorder.h"
+#include "losmimo/fusion/rawlog/io/reader.h"
 #include "kernel_isa.h"
 #include "rawlog_scenes.h"
 #include "messages.h"

@@ -5,9 +5,9 @@
 #include <ostream>
 #include <set>
 
-#include "losmimo/rawlog/log.h"
-#include "losmimo/rawlog/ro_export.h"
-#include "losmimo/rawlog_io/reader.h"
+#include "losmimo/fusion/rawlog/mission/log.h"
+#include "losmimo/fusion/rawlog/mission/ro_export.h"
+#include "losmimo/fusion/rawlog/io/reader.h"
 
 namespace losmimo::apps {
 

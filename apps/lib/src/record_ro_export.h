@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/apps/staged_output.h"
+#include "losmimo/apps/lib/staged_output.h"
 
 namespace losmimo::apps {
 

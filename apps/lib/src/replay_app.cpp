@@ -1,15 +1,15 @@
-#include "losmimo/apps/replay_app.h"
+#include "losmimo/apps/lib/replay_app.h"
 
 #include <optional>
 #include <ostream>
 #include <stdexcept>
 
-#include "losmimo/apps/exit_codes.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/apps/staged_output.h"
-#include "losmimo/common/test_hook.h"
+#include "losmimo/apps/lib/exit_codes.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/apps/lib/staged_output.h"
+#include "losmimo/placement/common/test_hook.h"
 #include "losmimo/localization/position/filter.h"
-#include "losmimo/rawlog/replay.h"
+#include "losmimo/fusion/rawlog/mission/replay.h"
 #include "kernel_isa.h"
 #include "messages.h"
 #include "rawlog_scenes.h"

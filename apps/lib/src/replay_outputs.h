@@ -11,13 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/apps/exit_codes.h"
-#include "losmimo/apps/replay_app.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/common/text.h"
-#include "losmimo/apps/staged_output.h"
-#include "losmimo/common/test_hook.h"
-#include "losmimo/rawlog_io/reader.h"
+#include "losmimo/apps/lib/exit_codes.h"
+#include "losmimo/apps/lib/replay_app.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/placement/common/text.h"
+#include "losmimo/apps/lib/staged_output.h"
+#include "losmimo/placement/common/test_hook.h"
+#include "losmimo/fusion/rawlog/io/reader.h"
 #include "messages.h"
 
 namespace losmimo::apps {

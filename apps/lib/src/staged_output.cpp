@@ -1,4 +1,4 @@
-#include "losmimo/apps/staged_output.h"
+#include "losmimo/apps/lib/staged_output.h"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -14,10 +14,10 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "losmimo/common/bounded_read.h"
-#include "losmimo/common/format.h"
-#include "losmimo/common/hash.h"
-#include "losmimo/common/test_hook.h"
+#include "losmimo/placement/common/bounded_read.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/hash.h"
+#include "losmimo/placement/common/test_hook.h"
 
 namespace losmimo::apps {
 

@@ -1,13 +1,13 @@
 // The co-evaluation trials (coevaluation.h): one record per row (planner, estimator) from a
 // shared start and seed, with the localization statistics as extra columns.
-#include "losmimo/coevaluation/coevaluation.h"
+#include "losmimo/fusion/coevaluation/coevaluation.h"
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
 
-#include "losmimo/coevaluation/report.h"
+#include "losmimo/fusion/coevaluation/report.h"
 #include "losmimo/placement/metrics.h"
 #include "trial_parts.h"
 

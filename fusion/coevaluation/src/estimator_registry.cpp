@@ -1,6 +1,6 @@
 // The estimator registry, the rows' aliases and the co-evaluation's direct planner
 // (estimator_registry.h).
-#include "losmimo/coevaluation/estimator_registry.h"
+#include "losmimo/fusion/coevaluation/estimator_registry.h"
 
 #include <algorithm>
 #include <map>
@@ -9,10 +9,10 @@
 #include <stdexcept>
 #include <utility>
 
-#include "losmimo/coevaluation/coevaluation.h"
-#include "losmimo/common/field_error.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/common/text.h"
+#include "losmimo/fusion/coevaluation/coevaluation.h"
+#include "losmimo/placement/common/field_error.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/placement/common/text.h"
 #include "losmimo/fusion/centralized.h"
 #include "losmimo/placement/settings.h"
 #include "trial_parts.h"

@@ -9,9 +9,9 @@
 #include <utility>
 #include <vector>
 
-#include "losmimo/coevaluation/coevaluation.h"
-#include "losmimo/coevaluation/estimator_registry.h"
-#include "losmimo/common/seed.h"
+#include "losmimo/fusion/coevaluation/coevaluation.h"
+#include "losmimo/fusion/coevaluation/estimator_registry.h"
+#include "losmimo/placement/common/seed.h"
 #include "losmimo/fusion/estimation_step.h"
 #include "losmimo/localization/position/estimation_errors.h"
 #include "losmimo/localization/position/initial_belief.h"

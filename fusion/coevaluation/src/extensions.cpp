@@ -1,8 +1,8 @@
-#include "losmimo/coevaluation/extensions.h"
+#include "losmimo/fusion/coevaluation/extensions.h"
 
 #include <algorithm>
 
-#include "losmimo/coevaluation/coevaluation.h"
+#include "losmimo/fusion/coevaluation/coevaluation.h"
 
 namespace losmimo::coevaluation {
 

@@ -1,10 +1,10 @@
-#include "losmimo/coevaluation/registries_markdown.h"
+#include "losmimo/fusion/coevaluation/registries_markdown.h"
 
 #include <string>
 #include <vector>
 
-#include "losmimo/coevaluation/estimator_registry.h"
-#include "losmimo/common/text.h"
+#include "losmimo/fusion/coevaluation/estimator_registry.h"
+#include "losmimo/placement/common/text.h"
 #include "losmimo/placement/planner_registry.h"
 
 namespace losmimo::coevaluation {

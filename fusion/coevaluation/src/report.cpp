@@ -1,5 +1,5 @@
 // Figures and report sections of the co-evaluation (report.h).
-#include "losmimo/coevaluation/report.h"
+#include "losmimo/fusion/coevaluation/report.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,10 +8,10 @@
 #include <filesystem>
 #include <sstream>
 
-#include "losmimo/coevaluation/coevaluation.h"
-#include "losmimo/common/atomic_file.h"
-#include "losmimo/common/format.h"
-#include "losmimo/common/gnuplot.h"
+#include "losmimo/fusion/coevaluation/coevaluation.h"
+#include "losmimo/placement/common/atomic_file.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/gnuplot.h"
 
 namespace losmimo::coevaluation {
 

@@ -5,11 +5,11 @@
 #include <stdexcept>
 #include <utility>
 
-#include "losmimo/coevaluation/coevaluation.h"
-#include "losmimo/common/format.h"
-#include "losmimo/common/ini_config.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/common/text.h"
+#include "losmimo/fusion/coevaluation/coevaluation.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/placement/common/text.h"
 #include "losmimo/fusion/closed_loop_settings.h"
 #include "losmimo/placement/settings.h"
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/coevaluation/coevaluation.h"
-#include "losmimo/coevaluation/estimator_registry.h"
+#include "losmimo/fusion/coevaluation/coevaluation.h"
+#include "losmimo/fusion/coevaluation/estimator_registry.h"
 
 namespace losmimo::coevaluation::detail {
 

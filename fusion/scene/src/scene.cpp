@@ -1,4 +1,4 @@
-#include "losmimo/scene/scene.h"
+#include "losmimo/fusion/scene/scene.h"
 
 #include <zlib.h>
 
@@ -17,7 +17,7 @@
 #include <mrpt/opengl/stock_objects.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include "losmimo/common/atomic_file.h"
+#include "losmimo/placement/common/atomic_file.h"
 
 namespace losmimo::scene {
 

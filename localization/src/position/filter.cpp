@@ -6,7 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "losmimo/common/field_error.h"
+#include "losmimo/placement/common/field_error.h"
 #include "losmimo/localization/filter_health.h"
 #include "losmimo/localization/position/ekf.h"
 #include "losmimo/localization/position/particle_filter.h"

@@ -1,4 +1,4 @@
-#include "losmimo/common/atomic_file.h"
+#include "losmimo/placement/common/atomic_file.h"
 
 #include <filesystem>
 #include <fstream>

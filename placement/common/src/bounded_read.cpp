@@ -1,4 +1,4 @@
-#include "losmimo/common/bounded_read.h"
+#include "losmimo/placement/common/bounded_read.h"
 
 #include <fstream>
 #include <istream>

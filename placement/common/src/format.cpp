@@ -1,4 +1,4 @@
-#include "losmimo/common/format.h"
+#include "losmimo/placement/common/format.h"
 
 #include <charconv>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "losmimo/common/gnuplot.h"
+#include "losmimo/placement/common/gnuplot.h"
 
 #include <cstdlib>
 #include <filesystem>

@@ -1,13 +1,13 @@
-#include "losmimo/common/ini_config.h"
+#include "losmimo/placement/common/ini_config.h"
 
-#include "losmimo/common/text.h"
+#include "losmimo/placement/common/text.h"
 
 #include <cctype>
 #include <fstream>
 #include <sstream>
 #include <string_view>
 
-#include "losmimo/common/bounded_read.h"
+#include "losmimo/placement/common/bounded_read.h"
 
 namespace losmimo::common {
 

@@ -1,6 +1,6 @@
-#include "losmimo/common/input_error.h"
+#include "losmimo/placement/common/input_error.h"
 
-#include "losmimo/common/text.h"
+#include "losmimo/placement/common/text.h"
 
 #include <algorithm>
 #include <cctype>

@@ -1,4 +1,4 @@
-#include "losmimo/common/key_table.h"
+#include "losmimo/placement/common/key_table.h"
 
 #include <algorithm>
 #include <cmath>

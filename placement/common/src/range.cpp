@@ -1,10 +1,10 @@
-#include "losmimo/common/range.h"
+#include "losmimo/placement/common/range.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "losmimo/common/field_error.h"
-#include "losmimo/common/format.h"
+#include "losmimo/placement/common/field_error.h"
+#include "losmimo/placement/common/format.h"
 
 namespace losmimo::common {
 

@@ -1,4 +1,4 @@
-#include "losmimo/common/test_hook.h"
+#include "losmimo/placement/common/test_hook.h"
 
 #include <fcntl.h>
 #include <unistd.h>

@@ -1,4 +1,4 @@
-#include "losmimo/common/text.h"
+#include "losmimo/placement/common/text.h"
 
 #include <cctype>
 

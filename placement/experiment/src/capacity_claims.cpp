@@ -1,5 +1,5 @@
 // The capacity-claim columns and their report.md section (capacity_claims.h).
-#include "losmimo/experiment/capacity_claims.h"
+#include "losmimo/placement/experiment/capacity_claims.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "losmimo/common/format.h"
+#include "losmimo/placement/common/format.h"
 
 namespace losmimo::experiment {
 

@@ -4,12 +4,12 @@
 #include <filesystem>
 #include <sstream>
 
-#include "losmimo/common/atomic_file.h"
-#include "losmimo/common/format.h"
-#include "losmimo/common/gnuplot.h"
-#include "losmimo/experiment/channel_sweeps.h"
-#include "losmimo/experiment/metrics.h"
-#include "losmimo/experiment/report.h"
+#include "losmimo/placement/common/atomic_file.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/gnuplot.h"
+#include "losmimo/placement/experiment/channel_sweeps.h"
+#include "losmimo/placement/experiment/metrics.h"
+#include "losmimo/placement/experiment/report.h"
 #include "losmimo/placement/channel_conditions.h"
 
 namespace losmimo::experiment {

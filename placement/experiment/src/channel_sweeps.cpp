@@ -1,12 +1,12 @@
 // The channel sweeps' keys and trials (channel_sweeps.h); figures and report in channel_report.cpp.
-#include "losmimo/experiment/channel_sweeps.h"
+#include "losmimo/placement/experiment/channel_sweeps.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "losmimo/common/ini_config.h"
-#include "losmimo/common/input_error.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/common/input_error.h"
 #include "losmimo/placement/channel_conditions.h"
 
 namespace losmimo::experiment {

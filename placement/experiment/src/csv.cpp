@@ -1,11 +1,11 @@
-#include "losmimo/experiment/csv.h"
+#include "losmimo/placement/experiment/csv.h"
 
 #include <cmath>
 #include <cstdio>
 #include <ostream>
 
-#include "losmimo/common/format.h"
-#include "losmimo/experiment/metrics.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/experiment/metrics.h"
 
 namespace losmimo::experiment {
 

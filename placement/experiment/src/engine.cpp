@@ -1,4 +1,4 @@
-#include "losmimo/experiment/engine.h"
+#include "losmimo/placement/experiment/engine.h"
 
 #include <algorithm>
 #include <atomic>
@@ -8,9 +8,9 @@
 #include <stdexcept>
 #include <thread>
 
-#include "losmimo/common/format.h"
-#include "losmimo/experiment/capacity_claims.h"
-#include "losmimo/experiment/metrics.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/experiment/capacity_claims.h"
+#include "losmimo/placement/experiment/metrics.h"
 
 namespace losmimo::experiment {
 

@@ -1,4 +1,4 @@
-#include "losmimo/experiment/metrics.h"
+#include "losmimo/placement/experiment/metrics.h"
 
 #include <algorithm>
 #include <stdexcept>

@@ -1,6 +1,6 @@
 // The swarm-size sweep's keys, trials, timing log and extension (num_uavs_sweep.h); figure and
 // report section in num_uavs_report.cpp.
-#include "losmimo/experiment/num_uavs_sweep.h"
+#include "losmimo/placement/experiment/num_uavs_sweep.h"
 
 #include <algorithm>
 #include <chrono>
@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "losmimo/common/input_error.h"
+#include "losmimo/placement/common/input_error.h"
 #include "losmimo/placement/scenario.h"
 
 namespace losmimo::experiment {

@@ -1,12 +1,12 @@
-#include "losmimo/experiment/paths.h"
+#include "losmimo/placement/experiment/paths.h"
 
 #include <cmath>
 #include <filesystem>
 #include <ostream>
 #include <sstream>
 
-#include "losmimo/common/atomic_file.h"
-#include "losmimo/common/format.h"
+#include "losmimo/placement/common/atomic_file.h"
+#include "losmimo/placement/common/format.h"
 #include "losmimo/placement/ura.h"
 
 namespace losmimo::experiment {

@@ -1,4 +1,4 @@
-#include "losmimo/experiment/readings.h"
+#include "losmimo/placement/experiment/readings.h"
 
 #include <algorithm>
 #include <atomic>
@@ -11,8 +11,8 @@
 #include <thread>
 #include <utility>
 
-#include "losmimo/common/format.h"
-#include "losmimo/experiment/metrics.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/experiment/metrics.h"
 
 namespace losmimo::experiment {
 

@@ -1,4 +1,4 @@
-#include "losmimo/experiment/records.h"
+#include "losmimo/placement/experiment/records.h"
 
 #include <algorithm>
 #include <cstdlib>
@@ -7,10 +7,10 @@
 #include <ostream>
 #include <sstream>
 
-#include "losmimo/common/format.h"
-#include "losmimo/common/hash.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/experiment/metrics.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/hash.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/placement/experiment/metrics.h"
 
 namespace losmimo::experiment {
 

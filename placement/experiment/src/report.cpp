@@ -1,11 +1,11 @@
-#include "losmimo/common/atomic_file.h"
-#include "losmimo/common/format.h"
-#include "losmimo/common/gnuplot.h"
-#include "losmimo/experiment/capacity_claims.h"
-#include "losmimo/experiment/readings.h"
-#include "losmimo/experiment/report.h"
+#include "losmimo/placement/common/atomic_file.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/gnuplot.h"
+#include "losmimo/placement/experiment/capacity_claims.h"
+#include "losmimo/placement/experiment/readings.h"
+#include "losmimo/placement/experiment/report.h"
 
-#include "losmimo/experiment/shards.h"
+#include "losmimo/placement/experiment/shards.h"
 #include "losmimo/placement/ura.h"
 #include "report_parts.h"
 

@@ -5,9 +5,9 @@
 #include <sstream>
 #include <tuple>
 
-#include "losmimo/common/atomic_file.h"
-#include "losmimo/experiment/paths.h"
-#include "losmimo/experiment/report.h"
+#include "losmimo/placement/common/atomic_file.h"
+#include "losmimo/placement/experiment/paths.h"
+#include "losmimo/placement/experiment/report.h"
 #include "report_parts.h"
 
 namespace losmimo::experiment::report_parts {

@@ -4,9 +4,9 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/experiment/engine.h"
-#include "losmimo/experiment/metrics.h"
-#include "losmimo/experiment/summary.h"
+#include "losmimo/placement/experiment/engine.h"
+#include "losmimo/placement/experiment/metrics.h"
+#include "losmimo/placement/experiment/summary.h"
 
 namespace losmimo::experiment::report_parts {
 

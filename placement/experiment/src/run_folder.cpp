@@ -1,17 +1,17 @@
-#include "losmimo/common/ini_config.h"
-#include "losmimo/experiment/run_folder.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/experiment/run_folder.h"
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
-#include "losmimo/common/atomic_file.h"
-#include "losmimo/common/hash.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/experiment/csv.h"
-#include "losmimo/experiment/records.h"
-#include "losmimo/experiment/report.h"
-#include "losmimo/experiment/summary.h"
+#include "losmimo/placement/common/atomic_file.h"
+#include "losmimo/placement/common/hash.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/placement/experiment/csv.h"
+#include "losmimo/placement/experiment/records.h"
+#include "losmimo/placement/experiment/report.h"
+#include "losmimo/placement/experiment/summary.h"
 
 namespace losmimo::experiment {
 

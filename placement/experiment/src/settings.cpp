@@ -1,14 +1,14 @@
-#include "losmimo/experiment/settings.h"
-#include "losmimo/common/text.h"
+#include "losmimo/placement/experiment/settings.h"
+#include "losmimo/placement/common/text.h"
 
 #include <algorithm>
 #include <cctype>
 #include <sstream>
 #include <stdexcept>
 
-#include "losmimo/experiment/capacity_claims.h"
-#include "losmimo/experiment/extension.h"
-#include "losmimo/experiment/report.h"
+#include "losmimo/placement/experiment/capacity_claims.h"
+#include "losmimo/placement/experiment/extension.h"
+#include "losmimo/placement/experiment/report.h"
 #include "losmimo/placement/swarm.h"
 
 namespace losmimo::experiment {

@@ -1,5 +1,5 @@
-#include "losmimo/common/ini_config.h"
-#include "losmimo/experiment/shards.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/experiment/shards.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "losmimo/common/input_error.h"
+#include "losmimo/placement/common/input_error.h"
 #include "losmimo/placement/isa.h"
 
 namespace losmimo::experiment {

@@ -1,11 +1,11 @@
-#include "losmimo/experiment/summary.h"
+#include "losmimo/placement/experiment/summary.h"
 
 #include <algorithm>
 #include <cmath>
 #include <ostream>
 
-#include "losmimo/common/format.h"
-#include "losmimo/experiment/metrics.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/experiment/metrics.h"
 
 namespace losmimo::experiment {
 

@@ -1,6 +1,6 @@
-#include "losmimo/common/hash.h"
-#include "losmimo/common/seed.h"
-#include "losmimo/experiment/trial.h"
+#include "losmimo/placement/common/hash.h"
+#include "losmimo/placement/common/seed.h"
+#include "losmimo/placement/experiment/trial.h"
 
 #include <cmath>
 #include <limits>
@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "losmimo/experiment/capacity_claims.h"
+#include "losmimo/placement/experiment/capacity_claims.h"
 #include "losmimo/placement/capacity.h"
 #include "losmimo/placement/metrics.h"
 #include "losmimo/placement/ura.h"

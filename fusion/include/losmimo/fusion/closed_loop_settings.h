@@ -13,8 +13,8 @@
 
 #include <string>
 
-#include "losmimo/common/ini_config.h"
-#include "losmimo/common/key_table.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/common/key_table.h"
 #include "losmimo/fusion/closed_loop.h"
 #include "losmimo/placement/settings.h"
 

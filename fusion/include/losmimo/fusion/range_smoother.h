@@ -41,7 +41,7 @@
 
 #include <Eigen/Core>
 
-#include "losmimo/common/range.h"
+#include "losmimo/placement/common/range.h"
 #include "losmimo/localization/pose/filter.h"
 
 namespace losmimo::fusion {

@@ -37,7 +37,7 @@
 
 #include "losmimo/fusion/csi.h"
 #include "losmimo/localization/position/filter.h"
-#include "losmimo/common/range.h"
+#include "losmimo/placement/common/range.h"
 #include "losmimo/localization/position/measurements.h"
 #include "losmimo/placement/channel.h"
 #include "losmimo/placement/scenario.h"

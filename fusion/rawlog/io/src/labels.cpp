@@ -1,4 +1,4 @@
-#include "losmimo/rawlog_io/labels.h"
+#include "losmimo/fusion/rawlog/io/labels.h"
 
 #include <cctype>
 #include <cstdio>

@@ -1,7 +1,7 @@
-#include "losmimo/rawlog_io/reader.h"
+#include "losmimo/fusion/rawlog/io/reader.h"
 
-#include "losmimo/rawlog_io/sandbox.h"
-#include "losmimo/rawlog_io/source.h"
+#include "losmimo/fusion/rawlog/io/sandbox.h"
+#include "losmimo/fusion/rawlog/io/source.h"
 #include "object_bytes.h"
 
 #include <algorithm>

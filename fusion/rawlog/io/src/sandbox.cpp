@@ -1,4 +1,4 @@
-#include "losmimo/rawlog_io/sandbox.h"
+#include "losmimo/fusion/rawlog/io/sandbox.h"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "losmimo/common/test_hook.h"
-#include "losmimo/rawlog_io/reader.h"
+#include "losmimo/placement/common/test_hook.h"
+#include "losmimo/fusion/rawlog/io/reader.h"
 #include "object_bytes.h"
 
 // Sanitizer runtimes (ASan, libFuzzer) call a death callback on an error; the child must not

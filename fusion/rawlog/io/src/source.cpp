@@ -1,4 +1,4 @@
-#include "losmimo/rawlog_io/source.h"
+#include "losmimo/fusion/rawlog/io/source.h"
 
 #include <zlib.h>
 

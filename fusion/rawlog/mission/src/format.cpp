@@ -1,7 +1,7 @@
-#include "losmimo/common/format.h"
-#include "losmimo/common/hash.h"
-#include "losmimo/rawlog/format.h"
-#include "losmimo/rawlog_io/labels.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/hash.h"
+#include "losmimo/fusion/rawlog/mission/format.h"
+#include "losmimo/fusion/rawlog/io/labels.h"
 
 #include <cstdlib>
 #include <sstream>

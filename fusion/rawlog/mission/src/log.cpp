@@ -1,7 +1,7 @@
-#include "losmimo/common/format.h"
-#include "losmimo/common/hash.h"
-#include "losmimo/common/ini_config.h"
-#include "losmimo/rawlog/log.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/hash.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/fusion/rawlog/mission/log.h"
 
 #include <cmath>
 #include <cstring>
@@ -19,8 +19,8 @@
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/obs/CSensoryFrame.h>
 
-#include "losmimo/rawlog/format.h"
-#include "losmimo/common/input_error.h"
+#include "losmimo/fusion/rawlog/mission/format.h"
+#include "losmimo/placement/common/input_error.h"
 
 namespace losmimo::rawlog {
 

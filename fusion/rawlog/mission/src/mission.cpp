@@ -1,9 +1,9 @@
-#include "losmimo/rawlog/mission.h"
+#include "losmimo/fusion/rawlog/mission/mission.h"
 
 #include <limits>
 #include <random>
 
-#include "losmimo/common/format.h"
+#include "losmimo/placement/common/format.h"
 #include "losmimo/fusion/closed_loop_settings.h"
 
 namespace losmimo::rawlog {

@@ -1,6 +1,6 @@
-#include "losmimo/common/format.h"
-#include "losmimo/common/hash.h"
-#include "losmimo/rawlog/recorder.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/hash.h"
+#include "losmimo/fusion/rawlog/mission/recorder.h"
 
 #include <zlib.h>
 
@@ -22,10 +22,10 @@
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include "losmimo/rawlog/format.h"
-#include "losmimo/mrpt_logs/mrpt_app_config.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/common/seed.h"
+#include "losmimo/fusion/rawlog/mission/format.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/mrpt_app_config.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/placement/common/seed.h"
 #include "losmimo/placement/metrics.h"
 #include "stock_streams.h"
 

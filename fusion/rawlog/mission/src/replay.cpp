@@ -1,5 +1,5 @@
-#include "losmimo/common/format.h"
-#include "losmimo/rawlog/replay.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/fusion/rawlog/mission/replay.h"
 
 #include <Eigen/Cholesky>
 #include <algorithm>
@@ -17,7 +17,7 @@
 #include "losmimo/localization/position/beacon_model.h"
 #include "losmimo/localization/position/initial_belief.h"
 #include "losmimo/placement/channel.h"
-#include "losmimo/common/input_error.h"
+#include "losmimo/placement/common/input_error.h"
 #include "losmimo/placement/metrics.h"
 
 namespace losmimo::rawlog {

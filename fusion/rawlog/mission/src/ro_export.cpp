@@ -1,4 +1,4 @@
-#include "losmimo/rawlog/ro_export.h"
+#include "losmimo/fusion/rawlog/mission/ro_export.h"
 
 #include <zlib.h>
 
@@ -15,10 +15,10 @@
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include "losmimo/common/format.h"
-#include "losmimo/common/input_error.h"
-#include "losmimo/mrpt_logs/mrpt_app_config.h"
-#include "losmimo/rawlog/recorder.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/input_error.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/mrpt_app_config.h"
+#include "losmimo/fusion/rawlog/mission/recorder.h"
 #include "stock_streams.h"
 
 namespace losmimo::rawlog {

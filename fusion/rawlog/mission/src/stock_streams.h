@@ -9,8 +9,8 @@
 #include <mrpt/obs/CObservationBeaconRanges.h>
 
 #include "losmimo/localization/filter_config.h"
-#include "losmimo/rawlog/format.h"
-#include "losmimo/rawlog/mission.h"
+#include "losmimo/fusion/rawlog/mission/format.h"
+#include "losmimo/fusion/rawlog/mission/mission.h"
 
 namespace losmimo::rawlog::detail {
 

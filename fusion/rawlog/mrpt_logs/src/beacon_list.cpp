@@ -1,4 +1,4 @@
-#include "losmimo/mrpt_logs/beacon_list.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/beacon_list.h"
 
 #include <cmath>
 #include <fstream>
@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "losmimo/common/input_error.h"
+#include "losmimo/placement/common/input_error.h"
 
 namespace losmimo::mrpt_logs {
 

@@ -1,4 +1,4 @@
-#include "losmimo/mrpt_logs/bearing_log.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/bearing_log.h"
 
 #include <algorithm>
 

@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "losmimo/common/format.h"
-#include "losmimo/common/gnuplot.h"
-#include "losmimo/mrpt_logs/bearing_replay.h"
-#include "losmimo/mrpt_logs/range_log.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/gnuplot.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/bearing_replay.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/range_log.h"
 #include "track_figure_data.h"
 
 namespace losmimo::mrpt_logs {

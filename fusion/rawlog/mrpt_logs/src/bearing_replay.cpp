@@ -1,4 +1,4 @@
-#include "losmimo/mrpt_logs/bearing_replay.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/bearing_replay.h"
 
 #include <chrono>
 #include <cmath>
@@ -7,9 +7,9 @@
 #include <set>
 #include <sstream>
 
-#include "losmimo/common/input_error.h"
+#include "losmimo/placement/common/input_error.h"
 #include "losmimo/localization/range_az_el.h"
-#include "losmimo/mrpt_logs/range_log.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/range_log.h"
 
 namespace losmimo::mrpt_logs {
 

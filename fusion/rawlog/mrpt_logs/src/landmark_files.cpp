@@ -1,11 +1,11 @@
-#include "losmimo/mrpt_logs/landmark_files.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/landmark_files.h"
 
 #include <cmath>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
-#include "losmimo/common/input_error.h"
+#include "losmimo/placement/common/input_error.h"
 
 namespace losmimo::mrpt_logs {
 

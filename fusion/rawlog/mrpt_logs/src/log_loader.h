@@ -25,7 +25,7 @@
 #include <mrpt/system/datetime.h>
 
 #include "losmimo/localization/pose/odometry_model.h"
-#include "losmimo/rawlog_io/reader.h"
+#include "losmimo/fusion/rawlog/io/reader.h"
 
 namespace losmimo::mrpt_logs::detail {
 

@@ -1,5 +1,5 @@
-#include "losmimo/mrpt_logs/mrpt_app_config.h"
-#include "losmimo/common/text.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/mrpt_app_config.h"
+#include "losmimo/placement/common/text.h"
 
 #include <algorithm>
 #include <cctype>
@@ -13,8 +13,8 @@
 
 #include <mrpt/config/CConfigFile.h>
 
-#include "losmimo/common/format.h"
-#include "losmimo/common/input_error.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/input_error.h"
 
 namespace losmimo::mrpt_logs {
 

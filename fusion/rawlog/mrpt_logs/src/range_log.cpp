@@ -1,4 +1,4 @@
-#include "losmimo/mrpt_logs/range_log.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/range_log.h"
 
 #include <sstream>
 
@@ -8,7 +8,7 @@
 #include <mrpt/poses/CPosePDF.h>
 
 #include "log_loader.h"
-#include "losmimo/rawlog_io/labels.h"
+#include "losmimo/fusion/rawlog/io/labels.h"
 
 namespace losmimo::mrpt_logs {
 

@@ -2,8 +2,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "losmimo/common/gnuplot.h"
-#include "losmimo/mrpt_logs/range_replay.h"
+#include "losmimo/placement/common/gnuplot.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/range_replay.h"
 #include "track_figure_data.h"
 
 namespace losmimo::mrpt_logs {

@@ -1,6 +1,6 @@
-#include "losmimo/mrpt_logs/range_replay.h"
+#include "losmimo/fusion/rawlog/mrpt_logs/range_replay.h"
 
-#include "losmimo/rawlog_io/labels.h"
+#include "losmimo/fusion/rawlog/io/labels.h"
 
 #include <Eigen/Cholesky>
 #include <chrono>
@@ -11,8 +11,8 @@
 #include <sstream>
 #include <tuple>
 
-#include "losmimo/common/format.h"
-#include "losmimo/common/input_error.h"
+#include "losmimo/placement/common/format.h"
+#include "losmimo/placement/common/input_error.h"
 #include "losmimo/localization/position/beacon_model.h"
 
 namespace losmimo::mrpt_logs {

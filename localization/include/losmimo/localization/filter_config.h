@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "losmimo/common/range.h"
+#include "losmimo/placement/common/range.h"
 
 namespace losmimo::localization {
 

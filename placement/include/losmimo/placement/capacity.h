@@ -50,7 +50,7 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "losmimo/common/range.h"
+#include "losmimo/placement/common/range.h"
 #include "losmimo/placement/run.h"
 
 namespace losmimo::placement {

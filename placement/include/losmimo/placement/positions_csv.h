@@ -10,7 +10,7 @@
 #include <iosfwd>
 #include <string>
 
-#include "losmimo/common/input_error.h"
+#include "losmimo/placement/common/input_error.h"
 
 namespace losmimo::placement {
 

@@ -12,7 +12,7 @@
 #include <random>
 #include <string>
 
-#include "losmimo/common/range.h"
+#include "losmimo/placement/common/range.h"
 
 namespace losmimo::placement {
 

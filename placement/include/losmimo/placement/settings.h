@@ -13,8 +13,8 @@
 #include <set>
 #include <string>
 
-#include "losmimo/common/ini_config.h"
-#include "losmimo/common/key_table.h"
+#include "losmimo/placement/common/ini_config.h"
+#include "losmimo/placement/common/key_table.h"
 #include "losmimo/placement/bf.h"
 #include "losmimo/placement/capacity.h"
 #include "losmimo/placement/channel_conditions.h"

@@ -24,7 +24,7 @@
 
 #include <Eigen/Core>
 
-#include "losmimo/common/range.h"
+#include "losmimo/placement/common/range.h"
 #include "losmimo/localization/position/measurements.h"
 
 namespace losmimo::localization {
