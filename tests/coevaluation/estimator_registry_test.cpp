@@ -1,7 +1,7 @@
 // The two registries: a planner and an estimator registered from the test tree run through the
 // experiment and the co-evaluation with no change to either engine; rows are (planner,
 // estimator) pairs with today's names as aliases. Its own executable: the test entries it
-// registers never reach another suite's registry listings (registries_docs_test.cpp).
+// registers never reach another suite's registry listings (registries_markdown_test.cpp).
 #include <gtest/gtest.h>
 
 #include <memory>
