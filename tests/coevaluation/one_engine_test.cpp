@@ -79,6 +79,36 @@ TEST(OneEngine, GdGaussAtZeroNoise_IsTheBuiltInSigmaLocSweepsGd_WithoutActuation
   }
 }
 
+TEST(OneEngine, GdGaussMatched_IsTheExperimentsGdAtGdEkfsMeasuredLateralError_BitForBit) {
+  // GIVEN: gd_ekf and gd_gauss_matched at beacon noise 0.1 m.
+  const experiment::ExperimentSettings s = settings("0.1", {"coevaluation.algorithms=gd_ekf, gd_gauss_matched"});
+  for (int trial = 0; trial < 2; ++trial) {
+    const std::vector<experiment::TrialRecord> records = run_beacon_noise_trial(s, 0, trial);
+    const experiment::TrialRecord& ekf = record_of(records, "gd_ekf");
+    const experiment::TrialRecord& matched = record_of(records, "gd_gauss_matched");
+    // WHEN: the experiment's GD, re-run here from the same start and seed at the sigma_loc whose
+    // 2-D lateral RMSE is gd_ekf's measured one.
+    const double sigma_m = ekf.extension.at(kLocLateralRmse) / std::sqrt(2.0);
+    ASSERT_GT(sigma_m, 1e-3);
+    placement::PlacementSettings p = s.placement;
+    p.errors.sigma_loc_m = sigma_m;
+    const Eigen::Matrix3Xd start = experiment::trial_start_positions_m(s, trial);
+    const std::uint64_t seed = experiment::trial_seed(s, kSweepBeaconNoise, 0, trial);
+    const placement::RunResult gd =
+        experiment::run_algorithm(s, p, experiment::Algorithm::kGd, trial, start, seed, s.placement.run);
+    // THEN: the matched row is that run, bit for bit, and reports that sigma.
+    EXPECT_EQ(matched.iterations, gd.iterations) << "trial " << trial;
+    EXPECT_EQ(matched.final_m, gd.final_m) << "trial " << trial;
+    EXPECT_EQ(matched.extension.at(kLocLateralRmse), std::sqrt(2.0) * sigma_m);
+    EXPECT_EQ(matched.extension.at(kPairedIterationsDiff), static_cast<double>(ekf.iterations - gd.iterations));
+    // THEN (negative control): the same GD without the error places differently.
+    p.errors.sigma_loc_m = 0.0;
+    const placement::RunResult exact =
+        experiment::run_algorithm(s, p, experiment::Algorithm::kGd, trial, start, seed, s.placement.run);
+    EXPECT_NE(exact.final_m, gd.final_m) << "trial " << trial;
+  }
+}
+
 TEST(OneEngine, AlgorithmStopRules_ActInTheCoevaluation) {
   // GIVEN: [gd], [bf] and [ura] iteration caps far below what the runs need at this noise.
   const experiment::ExperimentSettings s =

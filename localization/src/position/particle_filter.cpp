@@ -182,12 +182,7 @@ class ParticlePositionFilter::Mrpt final
     // the cloud keeps its mean and covariance but duplicates become distinct particles.
     make_spd<3>(cov_m2, config_.min_variance_m2, fallback_variance_m2(config_));
     const Eigen::Matrix3d L = cov_m2.llt().matrixL();
-    const double a = std::sqrt(1.0 - h * h);
-    for (auto& p : m_particles) {
-      Eigen::Vector3d n;
-      for (int k = 0; k < 3; ++k) n(k) = rng_.drawGaussian1D_normalized();
-      p.d = a * p.d + (1.0 - a) * mean_m + h * (L * n);
-    }
+    liu_west_jitter(m_particles, mean_m, L, h, rng_);
   }
 
   void update_belief() {

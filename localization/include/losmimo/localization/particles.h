@@ -7,6 +7,8 @@
 // resamples from the process-wide getRandomGenerator() (resampling.h). The filters resample
 // themselves with resample_particles() when ESS / N < FilterConfig::ess_threshold.
 
+#include <Eigen/Core>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -44,6 +46,22 @@ void resample_particles(ParticleSet& set, ResamplingMethod method, mrpt::random:
   set.performSubstitution(resampling_indices(method, log_weights(set.m_particles), rng));
   for (auto& p : set.m_particles) p.log_w = 0.0;
   ++counters.resamplings;
+}
+
+// The Liu-West kernel jitter of a resampled, equally weighted cloud of 3-D particles (`.d`, an
+// Eigen::Vector3d): each moves to a d + (1 - a) mean_m + h L n, a = sqrt(1 - h^2), n ~ N(0, I)
+// (three draws from rng per particle, in order), where mean_m and L L^T are the mean and
+// covariance of the cloud before resampling. Since a^2 + h^2 = 1, a cloud with those moments
+// keeps them in expectation; duplicates become distinct. h in [0, 1).
+template <class Particles>
+void liu_west_jitter(Particles& particles, const Eigen::Vector3d& mean_m, const Eigen::Matrix3d& L, double h,
+                     mrpt::random::CRandomGenerator& rng) {
+  const double a = std::sqrt(1.0 - h * h);
+  for (auto& p : particles) {
+    Eigen::Vector3d n;
+    for (int k = 0; k < 3; ++k) n(k) = rng.drawGaussian1D_normalized();
+    p.d = a * p.d + (1.0 - a) * mean_m + h * (L * n);
+  }
 }
 
 }  // namespace losmimo::localization
