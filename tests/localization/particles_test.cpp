@@ -41,7 +41,8 @@ std::vector<Particle> resampled_cloud(mrpt::random::CRandomGenerator& rng) {
   for (int i = 0; i < kBase; ++i) {
     Eigen::Vector3d n;
     for (int k = 0; k < 3; ++k) n(k) = rng.drawGaussian1D_normalized();
-    const Eigen::Vector3d offset = rng.drawUniform(0.0, 1.0) < 0.3 ? Eigen::Vector3d(0.4, -0.1, 0.2) : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d offset =
+        rng.drawUniform(0.0, 1.0) < 0.3 ? Eigen::Vector3d(0.4, -0.1, 0.2) : Eigen::Vector3d::Zero();
     const Eigen::Vector3d d = Eigen::Vector3d(1000.0, 2.0, -3.0) + offset + A * n;
     for (int c = 0; c < kCopies; ++c) cloud.push_back({d});
   }

@@ -35,7 +35,8 @@ TEST(LateralPeriod, IsTheSmallestShiftThatRepeatsTheRow_FoundByBruteForce) {
   const ChannelModel model(s);
   for (const Eigen::Vector3d& q : {Eigen::Vector3d(1000.0, 3.0, -7.0), Eigen::Vector3d(980.0, -12.0, 20.0)}) {
     const double period = lateral_period_m(s.wavelength_m(), q.x(), s.bs_spacing_m);
-    for (const Eigen::Vector3d& e : {Eigen::Vector3d(Eigen::Vector3d::UnitY()), Eigen::Vector3d(Eigen::Vector3d::UnitZ())}) {
+    for (const Eigen::Vector3d& e :
+         {Eigen::Vector3d(Eigen::Vector3d::UnitY()), Eigen::Vector3d(Eigen::Vector3d::UnitZ())}) {
       // The first repeat after the trivial one at 0 (1 mm grid over (0, 2 period]): the peak of
       // the row's correlation between leaving 0 (correlation below 0.5) and falling below 0.5
       // again.

@@ -96,6 +96,42 @@ TEST(RawlogCorruption, TruncatedAtManyOffsets_PrefixProcessedAndReported) {
   }
 }
 
+// The uncompressed offsets of the EPOCH_END marks, in order (mark k closes epoch k), and the
+// size of each.
+std::vector<std::pair<std::size_t, std::size_t>> epoch_marks(const std::string& raw) {
+  std::vector<std::pair<std::size_t, std::size_t>> marks;
+  rawlog_io::RawlogReader reader = rawlog_io::RawlogReader::from_bytes(raw);
+  const std::string head = std::string("losmimo ") + kLabelEpochEnd + "\n";
+  while (const std::optional<rawlog_io::RawlogObject> o = reader.next()) {
+    const auto* c = dynamic_cast<const mrpt::obs::CObservationComment*>(o->object.get());
+    if (c && c->text.compare(0, head.size(), head) == 0) marks.emplace_back(o->offset, o->bytes.size());
+  }
+  return marks;
+}
+
+TEST(RawlogCorruption, TruncatedInsideEveryEpoch_KeepsExactlyTheEpochsBefore_ReplayedBitForBit) {
+  const Recorded& r = recorded();
+  const std::vector<std::pair<std::size_t, std::size_t>> marks = epoch_marks(r.raw);
+  ASSERT_EQ(static_cast<int>(marks.size()), r.epochs);
+  for (int k = 0; k < r.epochs; ++k) {
+    const auto [mark, size] = marks[static_cast<std::size_t>(k)];
+    // GIVEN: the log cut inside epoch k: inside its last record before the mark, at the mark's
+    // first byte (an object boundary), and inside the mark.
+    for (const std::size_t cut : {mark - 1, mark, mark + size / 2}) {
+      SCOPED_TRACE("epoch " + std::to_string(k) + ", cut at " + std::to_string(cut));
+      const MissionLog log = load_bytes(r.raw.substr(0, cut));
+      // THEN: exactly the k verified epochs before it, never a partial one.
+      EXPECT_FALSE(log.complete);
+      ASSERT_EQ(static_cast<int>(log.epochs.size()), k);
+      if (k == 0) continue;
+      // AND: their replay reproduces every logged belief bit for bit.
+      const ReplayResult replay = replay_mission(log, {});
+      EXPECT_EQ(replay.filter_beliefs_compared, k * log.num_uavs);
+      EXPECT_EQ(replay.filter_beliefs_bitwise_equal, replay.filter_beliefs_compared);
+    }
+  }
+}
+
 TEST(RawlogCorruption, RandomBytesCorrupted_StopsCleanlyWithAReason) {
   constexpr int kCases = 200;
   const Recorded& r = recorded();
