@@ -40,6 +40,22 @@ double mean_nees(const std::vector<TrialResult>& trials) {
   return sum / n;
 }
 
+// The pooled check: the NEES averaged over every run and epoch against chi-square. Runs are
+// independent, a run's epochs are not: at worst (every run's epochs fully correlated) R times the
+// pooled mean is chi2(3 R), so its 99% band [chi2(3R) at 0.5%, at 99.5%] / R holds a consistent
+// filter whatever the correlation (R = 50: [2.18, 3.97]). An overconfident filter (NEES 4.6,
+// accepted by the per-epoch fraction at a marginal seed set) or a pessimistic one falls outside.
+struct Pooled {
+  double mean = 0.0, lo = 0.0, hi = 0.0;
+  bool inside() const { return mean >= lo && mean <= hi; }
+};
+Pooled pooled_nees(const std::vector<TrialResult>& trials) {
+  constexpr double kZ995 = 2.5758;
+  const double r = static_cast<double>(trials.size());
+  return {mean_nees(trials), test_support::chi2_quantile(3.0 * r, -kZ995) / r,
+          test_support::chi2_quantile(3.0 * r, kZ995) / r};
+}
+
 TrialSpec consistency_spec() {
   TrialSpec spec;
   spec.num_epochs = kConsistencyEpochs;
@@ -56,8 +72,12 @@ TEST_P(Consistency, NominalNoise_AverageNeesInside95BandOn90PercentOfEpochs) {
   const auto trials = run_trials(GetParam(), consistency_spec(), kNumTrials);
   // THEN: the run-averaged NEES is inside the chi2(3 N)/N 95% band on >= 90% of epochs.
   const double fraction = fraction_of_epochs_in_nees_band(trials);
-  std::cout << to_string(GetParam()) << ": fraction of epochs in NEES band = " << fraction << "\n";
+  const Pooled pooled = pooled_nees(trials);
+  std::cout << to_string(GetParam()) << ": fraction of epochs in NEES band = " << fraction << ", pooled NEES "
+            << pooled.mean << " in [" << pooled.lo << ", " << pooled.hi << "]\n";
   EXPECT_GE(fraction, kMinFractionInBand);
+  // AND: the pooled NEES is inside its chi-square band.
+  EXPECT_TRUE(pooled.inside()) << pooled.mean;
 }
 
 TEST_P(Consistency, OverconfidentNoiseModel_FailsTheSameCheck) {
@@ -70,8 +90,11 @@ TEST_P(Consistency, OverconfidentNoiseModel_FailsTheSameCheck) {
   spec.filter.gate_enabled = false;  // test the consistency check, not the gate
   const auto trials = run_trials(GetParam(), spec, kNumTrials);
   const double fraction = fraction_of_epochs_in_nees_band(trials);
-  std::cout << to_string(GetParam()) << ": overconfident, fraction in band = " << fraction << "\n";
+  const Pooled pooled = pooled_nees(trials);
+  std::cout << to_string(GetParam()) << ": overconfident, fraction in band = " << fraction << ", pooled NEES "
+            << pooled.mean << "\n";
   EXPECT_LT(fraction, kMinFractionInBand);
+  EXPECT_GT(pooled.mean, pooled.hi);  // and the pooled check says which way
 }
 
 TEST_P(Consistency, PessimisticNoiseModel_FailsTheSameCheck) {
@@ -83,8 +106,11 @@ TEST_P(Consistency, PessimisticNoiseModel_FailsTheSameCheck) {
   spec.filter.noise.dr_sigma_fraction *= kOverconfidenceFactor;
   const auto trials = run_trials(GetParam(), spec, kNumTrials);
   const double fraction = fraction_of_epochs_in_nees_band(trials);
-  std::cout << to_string(GetParam()) << ": pessimistic, fraction in band = " << fraction << "\n";
+  const Pooled pooled = pooled_nees(trials);
+  std::cout << to_string(GetParam()) << ": pessimistic, fraction in band = " << fraction << ", pooled NEES "
+            << pooled.mean << "\n";
   EXPECT_LT(fraction, kMinFractionInBand);
+  EXPECT_LT(pooled.mean, pooled.lo);
 }
 
 TEST_P(Consistency, SmallestBeaconNoise_AverageNeesInside95BandOn90PercentOfEpochs) {
@@ -96,9 +122,20 @@ TEST_P(Consistency, SmallestBeaconNoise_AverageNeesInside95BandOn90PercentOfEpoc
   spec.filter.noise.sigma_angle_rad = spec.filter.min_sigma_angle_rad;
   const auto trials = run_trials(GetParam(), spec, kNumTrials);
   const double fraction = fraction_of_epochs_in_nees_band(trials);
-  std::cout << to_string(GetParam()) << ": smallest beacon noise, mean NEES " << mean_nees(trials)
-            << ", fraction of epochs in NEES band = " << fraction << "\n";
+  const Pooled pooled = pooled_nees(trials);
+  std::cout << to_string(GetParam()) << ": smallest beacon noise, pooled NEES " << pooled.mean << " in [" << pooled.lo
+            << ", " << pooled.hi << "], fraction of epochs in NEES band = " << fraction << "\n";
   EXPECT_GE(fraction, kMinFractionInBand);
+  if (GetParam() == FilterKind::kEkf) {
+    EXPECT_TRUE(pooled.inside()) << pooled.mean;
+  } else {
+    // Known: here the particle filter is overconfident by half (pooled NEES 4.61 with these
+    // seeds, outside [2.18, 3.97], while 93% of its epochs are inside the per-epoch band): a few
+    // epochs' clouds are far narrower than a 1 mm posterior needs (docs/localization.md). Bounded
+    // so that it gets no worse; a PF that fixes it fails this line and should take the EKF's.
+    EXPECT_GT(pooled.mean, pooled.hi);
+    EXPECT_LT(pooled.mean, 5.0);
+  }
 }
 
 TEST(ZeroBeaconNoise, PfNeesAsTheEkfs) {
