@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "losmimo/placement/common/text.h"
+#include "losmimo/placement/common/named_registry.h"
 #include "losmimo/placement/bf.h"
 #include "losmimo/placement/capacity.h"
 #include "losmimo/placement/channel.h"
@@ -96,49 +96,23 @@ std::vector<PlannerEntry> builtin_planners() {
   return out;
 }
 
-std::vector<PlannerEntry>& registry() {
-  static std::vector<PlannerEntry> entries = builtin_planners();
+common::NamedRegistry<PlannerEntry>& registry() {
+  static common::NamedRegistry<PlannerEntry> entries("planner", builtin_planners());
   return entries;
-}
-
-bool valid_name(const std::string& name) {
-  return !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
-  });
 }
 
 }  // namespace
 
 void register_planner(PlannerEntry entry) {
-  if (!valid_name(entry.name)) {
-    throw std::invalid_argument("register_planner: '" + entry.name + "': a name is [a-z0-9_]+");
-  }
   if (static_cast<bool>(entry.make) == static_cast<bool>(entry.solve)) {
     throw std::invalid_argument("register_planner: " + entry.name + ": exactly one of make and solve");
   }
-  if (find_planner(entry.name)) {
-    throw std::invalid_argument("register_planner: '" + entry.name + "' is registered already");
-  }
-  registry().push_back(std::move(entry));
+  registry().add(std::move(entry));
 }
 
-const PlannerEntry* find_planner(const std::string& name) {
-  for (const PlannerEntry& e : registry()) {
-    if (e.name == name) return &e;
-  }
-  return nullptr;
-}
-
-const PlannerEntry& planner_entry(const std::string& name) {
-  if (const PlannerEntry* e = find_planner(name)) return *e;
-  throw std::invalid_argument("unknown planner '" + name + "' (known: " + common::join(planner_names()) + ")");
-}
-
-std::vector<std::string> planner_names() {
-  std::vector<std::string> names;
-  for (const PlannerEntry& e : registry()) names.push_back(e.name);
-  return names;
-}
+const PlannerEntry* find_planner(const std::string& name) { return registry().find(name); }
+const PlannerEntry& planner_entry(const std::string& name) { return registry().at(name); }
+std::vector<std::string> planner_names() { return registry().names(); }
 
 RunOptions planner_run_options(const PlannerEntry& entry, const PlacementSettings& p, RunOptions run) {
   if (entry.stop_rule) run = entry.stop_rule(p, run);

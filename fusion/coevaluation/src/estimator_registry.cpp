@@ -12,6 +12,7 @@
 #include "losmimo/fusion/coevaluation/coevaluation.h"
 #include "losmimo/placement/common/field_error.h"
 #include "losmimo/placement/common/input_error.h"
+#include "losmimo/placement/common/named_registry.h"
 #include "losmimo/placement/common/text.h"
 #include "losmimo/fusion/centralized.h"
 #include "losmimo/placement/settings.h"
@@ -21,15 +22,9 @@ namespace losmimo::coevaluation {
 
 namespace {
 
-std::vector<EstimatorEntry>& registry() {
-  static std::vector<EstimatorEntry> entries = builtin_estimators();
+common::NamedRegistry<EstimatorEntry>& registry() {
+  static common::NamedRegistry<EstimatorEntry> entries("estimator", builtin_estimators());
   return entries;
-}
-
-bool valid_name(const std::string& name) {
-  return !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
-  });
 }
 
 // Solutions of eq. 4 by (settings, start): the co-evaluation solves each start once, whichever
@@ -64,35 +59,15 @@ class CentralizedSolutions {
 }  // namespace
 
 void register_estimator(EstimatorEntry entry) {
-  if (!valid_name(entry.name)) {
-    throw std::invalid_argument("register_estimator: '" + entry.name + "': a name is [a-z0-9_]+");
-  }
   if (!entry.run || !entry.refuses) {
     throw std::invalid_argument("register_estimator: " + entry.name + ": needs run and refuses");
   }
-  if (find_estimator(entry.name)) {
-    throw std::invalid_argument("register_estimator: '" + entry.name + "' is registered already");
-  }
-  registry().push_back(std::move(entry));
+  registry().add(std::move(entry));
 }
 
-const EstimatorEntry* find_estimator(const std::string& name) {
-  for (const EstimatorEntry& e : registry()) {
-    if (e.name == name) return &e;
-  }
-  return nullptr;
-}
-
-const EstimatorEntry& estimator_entry(const std::string& name) {
-  if (const EstimatorEntry* e = find_estimator(name)) return *e;
-  throw std::invalid_argument("unknown estimator '" + name + "' (known: " + common::join(estimator_names()) + ")");
-}
-
-std::vector<std::string> estimator_names() {
-  std::vector<std::string> names;
-  for (const EstimatorEntry& e : registry()) names.push_back(e.name);
-  return names;
-}
+const EstimatorEntry* find_estimator(const std::string& name) { return registry().find(name); }
+const EstimatorEntry& estimator_entry(const std::string& name) { return registry().at(name); }
+std::vector<std::string> estimator_names() { return registry().names(); }
 
 const std::vector<RowAlias>& row_aliases() {
   static const std::vector<RowAlias> aliases = {{"gd_gauss", "gd", "gauss"},

@@ -110,15 +110,21 @@ placement::PlacementSettings exact_positions(const CoevalTrial& t) {
   return p;
 }
 
+// The record of `planner` run by the experiment (its stop rule, the trial's start and seed)
+// under placement settings p.
+experiment::TrialRecord run_planner(const CoevalRow& row, const placement::PlannerEntry& planner, const CoevalTrial& t,
+                                    const placement::PlacementSettings& p) {
+  return t.record(row, experiment::run_algorithm(t.settings, p, experiment::Algorithm(planner.name), t.trial, t.start_m,
+                                                 t.seed, t.settings.placement.run));
+}
+
 EstimatorEntry truth() {
   EstimatorEntry e;
   e.name = "truth";
   e.summary = "the true positions (sigma_loc 0); bf, random and centralized pair with it alone";
   e.refuses = [](const placement::PlannerEntry&) { return std::nullopt; };
   e.run = [](const CoevalRow& row, const placement::PlannerEntry& planner, const CoevalTrial& t) {
-    experiment::TrialRecord r =
-        t.record(row, experiment::run_algorithm(t.settings, exact_positions(t), experiment::Algorithm(planner.name),
-                                                t.trial, t.start_m, t.seed, t.settings.placement.run));
+    experiment::TrialRecord r = run_planner(row, planner, t, exact_positions(t));
     not_applicable(r, {kLocRmse, kLocLateralRmse, kNees, kBfFallbackFraction, kBeaconLateralRmse, kPairedTravelDiff,
                        kPairedIterationsDiff});
     return r;
@@ -134,9 +140,7 @@ EstimatorEntry gauss() {
   e.run = [](const CoevalRow& row, const placement::PlannerEntry& planner, const CoevalTrial& t) {
     placement::PlacementSettings p = t.settings.placement;
     p.errors.sigma_loc_m = t.beacon_noise_m;
-    experiment::TrialRecord r =
-        t.record(row, experiment::run_algorithm(t.settings, p, experiment::Algorithm(planner.name), t.trial, t.start_m,
-                                                t.seed, t.settings.placement.run));
+    experiment::TrialRecord r = run_planner(row, planner, t, p);
     set_gaussian_metrics(r, t.beacon_noise_m);
     not_applicable(r, {kPairedTravelDiff, kPairedIterationsDiff});
     return r;
@@ -163,9 +167,7 @@ EstimatorEntry gauss_matched() {
     if (!ekf) ekf = estimator_entry("ekf").run(ekf_row, planner, t);
     placement::PlacementSettings p = t.settings.placement;
     p.errors.sigma_loc_m = ekf->extension.at(kLocLateralRmse) / std::sqrt(2.0);  // the same lateral RMSE
-    experiment::TrialRecord own =
-        t.record(row, experiment::run_algorithm(t.settings, p, experiment::Algorithm(planner.name), t.trial, t.start_m,
-                                                t.seed, t.settings.placement.run));
+    experiment::TrialRecord own = run_planner(row, planner, t, p);
     set_gaussian_metrics(own, p.errors.sigma_loc_m);
     own.extension.set(kPairedTravelDiff, ekf->dist_to_icn095_m - own.dist_to_icn095_m);
     own.extension.set(kPairedIterationsDiff, static_cast<double>(ekf->iterations - own.iterations));
