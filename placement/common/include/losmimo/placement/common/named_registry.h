@@ -27,7 +27,8 @@ class NamedRegistry {
       return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
     });
     if (!spelled) throw std::invalid_argument("register_" + kind_ + ": '" + entry.name + "': a name is [a-z0-9_]+");
-    if (find(entry.name)) throw std::invalid_argument("register_" + kind_ + ": '" + entry.name + "' is registered already");
+    if (find(entry.name))
+      throw std::invalid_argument("register_" + kind_ + ": '" + entry.name + "' is registered already");
     entries_.push_back(std::move(entry));
   }
   // nullptr when absent.
