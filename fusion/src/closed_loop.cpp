@@ -67,6 +67,7 @@ void ClosedLoopPlanner::start(placement::Swarm& swarm) {
   silent_since_.assign(nr, 0);
   fault_.reset();
   placed_errors_ = {};
+  placed_shape_ = {};
   filter_errors_ = {};
   beacon_only_errors_ = {};
   modes_ = ClosedLoopStats{};
@@ -109,6 +110,13 @@ void ClosedLoopPlanner::start(placement::Swarm& swarm) {
     uavs_.push_back(std::move(uav));
   }
   modes_.num_epochs = 1;
+  if (!fault_) record_shape(swarm);
+}
+
+void ClosedLoopPlanner::record_shape(const placement::Swarm& swarm) {
+  Eigen::Matrix3Xd means(3, swarm.num_uavs());
+  for (int m = 0; m < swarm.num_uavs(); ++m) means.col(m) = beliefs_[m].mean_m;
+  placed_shape_.add(swarm.true_positions_m(), means);
 }
 
 void ClosedLoopPlanner::localize(placement::Swarm& swarm, int epoch) {
@@ -132,6 +140,7 @@ void ClosedLoopPlanner::localize(placement::Swarm& swarm, int epoch) {
     if (fault_) return;  // a non-finite belief: no placement
   }
   ++modes_.num_epochs;
+  record_shape(swarm);
 }
 
 void ClosedLoopPlanner::record_epoch(int m, int epoch, const Eigen::Vector3d& q_m, const EpochEstimate& est) {
@@ -294,6 +303,10 @@ ClosedLoopStats ClosedLoopPlanner::stats() const {
     s.filter_rmse_m = filter_errors_.rmse_m();
     s.filter_lateral_rmse_m = filter_errors_.lateral_rmse_m();
     s.filter_average_nees = filter_errors_.average_nees();
+  }
+  if (placed_shape_.epochs() > 0) {
+    s.common_lateral_rms_m = placed_shape_.common_lateral_rms_m();
+    s.shape_lateral_rmse_m = placed_shape_.shape_lateral_rmse_m();
   }
   s.num_beacons = static_cast<int>(beacon_only_errors_.samples());
   if (beacon_only_errors_.samples() > 0) {

@@ -34,4 +34,20 @@ SwarmErrorSplit split_swarm_error(const Eigen::Matrix3Xd& truth_m, const Eigen::
   return s;
 }
 
+void SwarmShapeAccumulator::add(const Eigen::Matrix3Xd& truth_m, const Eigen::Matrix3Xd& estimate_m) {
+  const SwarmErrorSplit s = split_swarm_error(truth_m, estimate_m);
+  ++epochs_;
+  uav_epochs_ += truth_m.cols();
+  common_sq_ += s.common_lateral_m.squaredNorm();
+  shape_sq_ += s.shape_lateral_m.squaredNorm();
+}
+
+double SwarmShapeAccumulator::common_lateral_rms_m() const {
+  return epochs_ > 0 ? std::sqrt(common_sq_ / epochs_) : std::nan("");
+}
+
+double SwarmShapeAccumulator::shape_lateral_rmse_m() const {
+  return uav_epochs_ > 0 ? std::sqrt(shape_sq_ / static_cast<double>(uav_epochs_)) : std::nan("");
+}
+
 }  // namespace losmimo::placement

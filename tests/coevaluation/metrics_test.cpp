@@ -21,6 +21,8 @@ using experiment::TrialRecord;
 TEST(CoevaluationMetricTable, NamesOrderAndUnits_AreTheDocumentedColumns) {
   const std::vector<std::pair<std::string, std::string>> expected = {{"loc_rmse_m", "m"},
                                                                      {"loc_lateral_rmse_m", "m"},
+                                                                     {"common_lateral_m", "m"},
+                                                                     {"shape_lateral_rmse_m", "m"},
                                                                      {"nees", ""},
                                                                      {"bf_fallback_fraction", ""},
                                                                      {"beacon_lateral_rmse_m", "m"},

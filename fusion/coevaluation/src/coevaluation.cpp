@@ -57,6 +57,8 @@ experiment::TrialRecord closed_loop_record(const experiment::ExperimentSettings&
   experiment::TrialRecord rec = experiment::make_record(s, sweep, point, trial, name, r.run);
   rec.extension.set(kLocRmse, r.stats.rmse_m);
   rec.extension.set(kLocLateralRmse, r.stats.lateral_rmse_m);
+  rec.extension.set(kCommonLateral, r.stats.common_lateral_rms_m);
+  rec.extension.set(kShapeLateralRmse, r.stats.shape_lateral_rmse_m);
   rec.extension.set(kNees, r.stats.average_nees);
   rec.extension.set(kBfFallbackFraction, fallback_fraction(r.stats, r.run.iterations));
   rec.extension.set(kBeaconLateralRmse, r.stats.num_beacons > 0 ? r.stats.beacon_only_lateral_rmse_m : kNaN);

@@ -15,6 +15,7 @@
 #include "losmimo/fusion/estimation_step.h"
 #include "losmimo/localization/position/estimation_errors.h"
 #include "losmimo/localization/position/initial_belief.h"
+#include "losmimo/placement/swarm_shape.h"
 #include "trial_parts.h"
 
 namespace losmimo::coevaluation {
@@ -33,7 +34,7 @@ constexpr std::uint64_t kSourceFilterStream = 0x55524146;     // "URAF"
 void set_gaussian_metrics(experiment::TrialRecord& r, double sigma_loc_m) {
   r.extension.set(kLocRmse, std::sqrt(3.0) * sigma_loc_m);
   r.extension.set(kLocLateralRmse, std::sqrt(2.0) * sigma_loc_m);
-  not_applicable(r, {kNees, kBfFallbackFraction, kBeaconLateralRmse});
+  not_applicable(r, {kCommonLateral, kShapeLateralRmse, kNees, kBfFallbackFraction, kBeaconLateralRmse});
 }
 
 std::optional<std::string> needs_positions(const placement::PlannerEntry& planner, const std::string& estimator) {
@@ -79,6 +80,14 @@ class FilterPositionSource {
     const fusion::EpochEstimate est = first ? uav.estimator.start(std::move(in)) : uav.estimator.step(std::move(in));
     uav.last_q_m = q_m;
     errors_.add(est.belief, q_m);
+    // The swarm's epoch e: every UAV's e-th estimate (the planner asks each UAV once per epoch).
+    const auto e = static_cast<std::size_t>(uav.epoch);
+    if (epochs_truth_.size() <= e) {
+      epochs_truth_.resize(e + 1, Eigen::Matrix3Xd::Constant(3, static_cast<Eigen::Index>(uavs_.size()), kNaN));
+      epochs_mean_.resize(e + 1, Eigen::Matrix3Xd::Constant(3, static_cast<Eigen::Index>(uavs_.size()), kNaN));
+    }
+    epochs_truth_[e].col(m) = q_m;
+    epochs_mean_[e].col(m) = est.belief.mean_m;
     if (est.beacon_fix_m) beacon_only_errors_.add(*est.beacon_fix_m, q_m);
     return est.belief.mean_m;
   }
@@ -87,6 +96,12 @@ class FilterPositionSource {
   void set_metrics(experiment::TrialRecord& r) const {
     r.extension.set(kLocRmse, errors_.rmse_m());
     r.extension.set(kLocLateralRmse, errors_.lateral_rmse_m());
+    placement::SwarmShapeAccumulator shape;  // the epochs every UAV was estimated in
+    for (std::size_t e = 0; e < epochs_truth_.size(); ++e) {
+      if (epochs_truth_[e].allFinite() && epochs_mean_[e].allFinite()) shape.add(epochs_truth_[e], epochs_mean_[e]);
+    }
+    r.extension.set(kCommonLateral, shape.common_lateral_rms_m());
+    r.extension.set(kShapeLateralRmse, shape.shape_lateral_rmse_m());
     r.extension.set(kNees, errors_.average_nees());
     r.extension.set(kBeaconLateralRmse, beacon_only_errors_.lateral_rmse_m());
     not_applicable(r, {kBfFallbackFraction, kPairedTravelDiff, kPairedIterationsDiff});
@@ -101,6 +116,7 @@ class FilterPositionSource {
   };
   std::vector<Uav> uavs_;
   localization::ErrorAccumulator errors_, beacon_only_errors_;
+  std::vector<Eigen::Matrix3Xd> epochs_truth_, epochs_mean_;  // [epoch]: 3 x Nr, NaN where not estimated
 };
 
 // The placement settings every row but gauss's starts from: no Gaussian localization error.
@@ -125,8 +141,8 @@ EstimatorEntry truth() {
   e.refuses = [](const placement::PlannerEntry&) { return std::nullopt; };
   e.run = [](const CoevalRow& row, const placement::PlannerEntry& planner, const CoevalTrial& t) {
     experiment::TrialRecord r = run_planner(row, planner, t, exact_positions(t));
-    not_applicable(r, {kLocRmse, kLocLateralRmse, kNees, kBfFallbackFraction, kBeaconLateralRmse, kPairedTravelDiff,
-                       kPairedIterationsDiff});
+    not_applicable(r, {kLocRmse, kLocLateralRmse, kCommonLateral, kShapeLateralRmse, kNees, kBfFallbackFraction,
+                       kBeaconLateralRmse, kPairedTravelDiff, kPairedIterationsDiff});
     return r;
   };
   return e;

@@ -172,8 +172,8 @@ std::string to_ini(const CoevaluationSettings& c) { return coevaluation_keys().t
 
 const experiment::ExtensionMetrics& coevaluation_metrics() {
   static const experiment::ExtensionMetrics kTable = {
-      kLocRmse,          kLocLateralRmse,      kNees, kBfFallbackFraction, kBeaconLateralRmse,
-      kPairedTravelDiff, kPairedIterationsDiff};
+      kLocRmse,           kLocLateralRmse,   kCommonLateral,       kShapeLateralRmse, kNees, kBfFallbackFraction,
+      kBeaconLateralRmse, kPairedTravelDiff, kPairedIterationsDiff};
   return kTable;
 }
 

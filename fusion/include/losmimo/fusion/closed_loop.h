@@ -71,6 +71,7 @@
 #include "losmimo/placement/bf.h"
 #include "losmimo/placement/gd.h"
 #include "losmimo/placement/run.h"
+#include "losmimo/placement/swarm_shape.h"
 #include "losmimo/placement/settings.h"
 #include "losmimo/placement/stall.h"
 
@@ -181,6 +182,10 @@ struct ClosedLoopStats {
   double filter_rmse_m = 0.0;   // the same for the filter's own beliefs
   double filter_lateral_rmse_m = 0.0;
   double filter_average_nees = 0.0;
+  // The swarm's split of the beliefs placement used, per epoch (placement/swarm_shape.h): the RMS
+  // of the common lateral offset and the lateral shape residual's RMSE.
+  double common_lateral_rms_m = 0.0;
+  double shape_lateral_rmse_m = 0.0;
   double beacon_only_rmse_m = 0.0;  // beacon_fix of every received beacon (0: none)
   double beacon_only_lateral_rmse_m = 0.0;
   int num_beacons = 0;
@@ -297,6 +302,9 @@ class ClosedLoopPlanner : public placement::Planner {
   // Accumulated statistics (see ClosedLoopStats): placement's beliefs, the filters' and the
   // beacon-only fixes, against the true positions.
   localization::ErrorAccumulator placed_errors_, filter_errors_, beacon_only_errors_;
+  placement::SwarmShapeAccumulator placed_shape_;
+  // One epoch of the beliefs placement uses, every UAV, into placed_shape_.
+  void record_shape(const placement::Swarm& swarm);
   ClosedLoopStats modes_;  // the per-UAV and per-iteration fields only
 };
 

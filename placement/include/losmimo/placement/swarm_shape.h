@@ -34,4 +34,20 @@ struct SwarmErrorSplit {
 // std::invalid_argument when the two are not 3 x N of the same N >= 1 or not finite.
 SwarmErrorSplit split_swarm_error(const Eigen::Matrix3Xd& truth_m, const Eigen::Matrix3Xd& estimate_m);
 
+// The split over the epochs of a run: add() one epoch's true and estimated positions (every UAV).
+class SwarmShapeAccumulator {
+ public:
+  void add(const Eigen::Matrix3Xd& truth_m, const Eigen::Matrix3Xd& estimate_m);
+  int epochs() const { return epochs_; }
+  // sqrt(mean over epochs of |common_lateral_m|^2); NaN before any epoch.
+  double common_lateral_rms_m() const;
+  // sqrt(mean over epochs and UAVs of |shape_lateral_m|^2); NaN before any epoch.
+  double shape_lateral_rmse_m() const;
+
+ private:
+  int epochs_ = 0;
+  long long uav_epochs_ = 0;
+  double common_sq_ = 0.0, shape_sq_ = 0.0;
+};
+
 }  // namespace losmimo::placement

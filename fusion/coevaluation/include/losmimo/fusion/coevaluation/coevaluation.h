@@ -124,6 +124,16 @@ inline constexpr experiment::ExtensionMetric kLocRmse{
     "by construction)"};
 inline constexpr experiment::ExtensionMetric kLocLateralRmse{
     {"loc_lateral_rmse_m"}, "m", "the same across the line of sight, sqrt(e_y^2 + e_z^2) (gd_gauss: sqrt(2) v)"};
+inline constexpr experiment::ExtensionMetric kCommonLateral{
+    {"common_lateral_m"},
+    "m",
+    "RMS over epochs of the swarm's common lateral offset of those estimates (placement/swarm_shape.h), which the "
+    "channel barely sees (NaN for rows without estimated positions: truth, gauss, gauss_matched)"};
+inline constexpr experiment::ExtensionMetric kShapeLateralRmse{
+    {"shape_lateral_rmse_m"},
+    "m",
+    "RMSE over epochs and UAVs of their lateral shape residual (common offset and rotation about boresight "
+    "removed): the error capacity sees (NaN as above)"};
 inline constexpr experiment::ExtensionMetric kNees{
     {"nees"}, "", "average e^T P^-1 e of those estimates (3 when consistent)"};
 inline constexpr experiment::ExtensionMetric kBfFallbackFraction{
