@@ -16,6 +16,15 @@ TEST(IniConfig, ParsesSectionsKeysAndComments) {
   EXPECT_DOUBLE_EQ(cfg.get_double("errors", "sigma_act_m", 0.25), 0.25);
 }
 
+TEST(IniConfig, MrptsSlashSlashComments_WholeLineOrAfterTheValue_NotInAUrl) {
+  const auto cfg = losmimo::common::IniConfig::from_string(
+      "// MRPT-style header\n[scenario]\nsnr_db = 7.5 // dB at 1 km\n[s]\nurl = http://example.org/a // note\n"
+      "path = a//b\n");
+  EXPECT_DOUBLE_EQ(cfg.get_double("scenario", "snr_db", 0.0), 7.5);
+  EXPECT_EQ(cfg.get_string("s", "url", ""), "http://example.org/a");
+  EXPECT_EQ(cfg.get_string("s", "path", ""), "a");  // `//` after anything but ':' starts a comment
+}
+
 TEST(IniConfig, MalformedLines_NameTheLine) {
   expect_input_error([] { losmimo::common::IniConfig::from_string("[scenario]\nsnr_db 10\n", "a.ini"); },
                      {"a.ini:2", "key = value"});

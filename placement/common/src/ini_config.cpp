@@ -23,8 +23,16 @@ bool valid_name(const std::string& name) {
   return true;
 }
 
+// `#` and `;` start a comment anywhere; `//` too, as in MRPT's files ("key = value // why"),
+// except right after a ':' (a URL's "http://" is a value, as MRPT reads it).
 std::string strip_comment(const std::string& line) {
-  const std::size_t pos = line.find_first_of("#;");
+  std::size_t pos = line.find_first_of("#;");
+  for (std::size_t s = line.find("//"); s != std::string::npos && s < pos; s = line.find("//", s + 1)) {
+    if (s == 0 || line[s - 1] != ':') {
+      pos = s;
+      break;
+    }
+  }
   return pos == std::string::npos ? line : line.substr(0, pos);
 }
 }  // namespace

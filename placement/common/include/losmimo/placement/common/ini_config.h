@@ -1,6 +1,7 @@
 #pragma once
-// A strict INI reader in MRPT's style: `[section]` headers, `key = value` lines, `#` or `;`
-// comments (whole line or after the value), case-sensitive names, a leading UTF-8 byte-order
+// A strict INI reader in MRPT's style: `[section]` headers, `key = value` lines, `#`, `;` or `//`
+// comments (whole line or after the value; `//` right after ':' is a URL's, not a comment, as
+// MRPT reads it), case-sensitive names, a leading UTF-8 byte-order
 // mark ignored; files of at most kMaxConfigBytes (bounded_read.h). Strict where MRPT's
 // CConfigFile is lenient: a missing file, a malformed line, a duplicate key and (with
 // require_known) an unknown section or key are errors naming the file, line and key.
