@@ -168,7 +168,6 @@ EstimatorEntry gauss_matched() {
   EstimatorEntry e;
   e.name = "gauss_matched";
   e.summary = "the Gaussian at the lateral RMSE the same planner's ekf row measured (same trial and point)";
-  e.keys = {};
   e.refuses = [](const placement::PlannerEntry& planner) {
     if (auto why = needs_positions(planner, "gauss_matched")) return why;
     return estimator_entry("ekf").refuses(planner);
