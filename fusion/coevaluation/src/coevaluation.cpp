@@ -160,9 +160,6 @@ experiment::ExperimentExtension beacon_noise_extension() {
   e.load_values = [](const experiment::ExperimentSettings& s) {
     return load_coevaluation_settings(s).beacon_noise_values_m;
   };
-  e.run = [](const experiment::ExperimentSettings& s, int point, int trial) {
-    return run_beacon_noise_trial(s, point, trial);
-  };
   e.bind = [](const experiment::ExperimentSettings& s) {
     return bound(s, static_cast<TrialOf>(&run_beacon_noise_trial));
   };
@@ -180,9 +177,6 @@ experiment::ExperimentExtension beacon_outage_extension() {
   e.load_values = [](const experiment::ExperimentSettings& s) {
     const std::vector<int> k = load_coevaluation_settings(s).outage_values;
     return std::vector<double>(k.begin(), k.end());
-  };
-  e.run = [](const experiment::ExperimentSettings& s, int point, int trial) {
-    return run_outage_trial(s, point, trial);
   };
   e.bind = [](const experiment::ExperimentSettings& s) { return bound(s, static_cast<TrialOf>(&run_outage_trial)); };
   e.figures = write_outage_figures;

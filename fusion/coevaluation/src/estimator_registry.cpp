@@ -83,6 +83,17 @@ const std::vector<RowAlias>& row_aliases() {
   return aliases;
 }
 
+std::vector<CoevalRow> aliased_rows(const std::vector<std::string>& aliases) {
+  std::vector<CoevalRow> rows;
+  for (const std::string& name : aliases) {
+    const auto it =
+        std::find_if(row_aliases().begin(), row_aliases().end(), [&](const RowAlias& a) { return a.alias == name; });
+    if (it == row_aliases().end()) throw std::logic_error("aliased_rows: '" + name + "' is not an alias");
+    rows.push_back({it->alias, it->planner, it->estimator});
+  }
+  return rows;
+}
+
 CoevalRow parse_row(const std::string& text, const std::string& where) {
   register_coevaluation_planners();
   for (const RowAlias& a : row_aliases()) {

@@ -82,14 +82,8 @@ inline const std::string kSweepBeaconOutage = "beacon_outage";
 struct CoevaluationSettings {
   std::vector<double> beacon_noise_values_m = {0.0, 0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.14, 0.16, 0.18};
   // The rows (estimator_registry.h), resolved: ura_ekf's planner is ura_variant's URA.
-  std::vector<CoevalRow> algorithms = {{"gd_gauss", "gd", "gauss"},
-                                       {"gd_ekf", "gd", "ekf"},
-                                       {"gd_gauss_matched", "gd", "gauss_matched"},
-                                       {"gd_pf", "gd", "pf"},
-                                       {"gd_ekf_ceres", "gd", "ekf_ceres"},
-                                       {"bf", "bf", "truth"},
-                                       {"ura_ekf", "ura", "ekf"},
-                                       {"centralized", "centralized", "truth"}};
+  std::vector<CoevalRow> algorithms =
+      aliased_rows({"gd_gauss", "gd_ekf", "gd_gauss_matched", "gd_pf", "gd_ekf_ceres", "bf", "ura_ekf", "centralized"});
   // The [closed_loop] keys shared with losmimo-record, as ClosedLoopConfig holds them:
   // simulator.sigma_range_m (the beacon's range 1-sigma at every point), simulator.dr_sigma_*,
   // filter.num_particles, refinement.window_epochs and refinement.use_csi. The rest of a run's
@@ -98,7 +92,7 @@ struct CoevaluationSettings {
   placement::UraVariant ura_variant = placement::UraVariant::kRigid;
   std::vector<int> outage_values = {0, 2, 4, 8};  // UAVs without beacon
   // gd's closed loop with a filter estimator only.
-  std::vector<CoevalRow> outage_algorithms = {{"gd_ekf", "gd", "ekf"}, {"gd_ekf_nofallback", "gd", "ekf_nofallback"}};
+  std::vector<CoevalRow> outage_algorithms = aliased_rows({"gd_ekf", "gd_ekf_nofallback"});
   int outage_first_epoch = 10;
   int outage_epochs = 30;
   int outage_degraded_after_epochs = 5;

@@ -99,6 +99,9 @@ struct RowAlias {
   std::string alias, planner, estimator;
 };
 const std::vector<RowAlias>& row_aliases();
+// The rows of these aliases, in order (unresolved, as parse_row gives them); std::logic_error for
+// a name that is not an alias.
+std::vector<CoevalRow> aliased_rows(const std::vector<std::string>& aliases);
 
 // The row `text` names (an alias or "planner+estimator"), unresolved; common::InputError naming
 // `where`, the text and the known names when it names nothing registered.
