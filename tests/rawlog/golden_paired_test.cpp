@@ -6,6 +6,9 @@
 // by many times that spread while its NEES stays inside the chi-square bands of invariants.ini.
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
 #include <cmath>
 #include <iostream>
 #include <string>
