@@ -115,8 +115,12 @@ void ClosedLoopPlanner::start(placement::Swarm& swarm) {
 
 void ClosedLoopPlanner::record_shape(const placement::Swarm& swarm) {
   Eigen::Matrix3Xd means(3, swarm.num_uavs());
-  for (int m = 0; m < swarm.num_uavs(); ++m) means.col(m) = beliefs_[m].mean_m;
-  placed_shape_.add(swarm.true_positions_m(), means);
+  std::vector<Eigen::Matrix2d> lateral_cov_m2(static_cast<std::size_t>(swarm.num_uavs()));
+  for (int m = 0; m < swarm.num_uavs(); ++m) {
+    means.col(m) = beliefs_[m].mean_m;
+    lateral_cov_m2[static_cast<std::size_t>(m)] = beliefs_[m].cov_m2.bottomRightCorner<2, 2>();
+  }
+  placed_shape_.add(swarm.true_positions_m(), means, lateral_cov_m2);
 }
 
 void ClosedLoopPlanner::localize(placement::Swarm& swarm, int epoch) {
@@ -307,6 +311,7 @@ ClosedLoopStats ClosedLoopPlanner::stats() const {
   if (placed_shape_.epochs() > 0) {
     s.common_lateral_rms_m = placed_shape_.common_lateral_rms_m();
     s.shape_lateral_rmse_m = placed_shape_.shape_lateral_rmse_m();
+    s.shape_nees_per_dof = placed_shape_.shape_nees_per_dof();
   }
   s.num_beacons = static_cast<int>(beacon_only_errors_.samples());
   if (beacon_only_errors_.samples() > 0) {

@@ -1,4 +1,5 @@
 #include "losmimo/fusion/closed_loop_settings.h"
+#include "losmimo/placement/common/format.h"
 #include "losmimo/placement/common/text.h"
 
 #include <limits>
@@ -50,6 +51,25 @@ std::string outages_text(const std::vector<UavBeaconOutage>& outages) {
     o << (i ? ", " : "") << u.uav << ":" << u.window.first_epoch << ":" << u.window.num_epochs;
   }
   return o.str();
+}
+
+// "x, y, z" [m], each in simulator_range::position_error; errors name the item.
+Eigen::Vector3d parse_position_error(const std::string& text, const std::string& where) {
+  const std::vector<std::string> items = common::split_list(text);
+  if (items.size() != 3) {
+    throw common::InputError(where + ": '" + text + "': expected three numbers x, y, z [m], got " +
+                             std::to_string(items.size()));
+  }
+  Eigen::Vector3d p;
+  for (int a = 0; a < 3; ++a) {
+    p(a) = common::parse_double(items[static_cast<std::size_t>(a)], where);
+    common::require_in(localization::simulator_range::position_error, p(a), items[static_cast<std::size_t>(a)], where);
+  }
+  return p;
+}
+
+std::string position_text(const Eigen::Vector3d& p) {
+  return common::format_exact(p.x()) + ", " + common::format_exact(p.y()) + ", " + common::format_exact(p.z());
 }
 
 // "kind:uav:from_iteration[:num_iterations], ..."; errors name the entry.
@@ -155,6 +175,37 @@ std::vector<common::Key<ClosedLoopConfig>> closed_loop_key_list() {
           kLoop, "outlier_fraction", [](auto& c) -> auto& { return c.simulator.outlier_fraction; },
           localization::simulator_range::outlier_fraction, "fraction of beacons with gross errors, in [0, 1]", "0.125")
           .sets({"simulator.outlier_fraction"}),
+      // Common-mode errors (localization/position/simulator.h): only written when set, so that
+      // the CONFIG of a mission without them stays as it was.
+      K::real(
+          kLoop, "bs_azimuth_bias_rad", [](auto& c) -> auto& { return c.simulator.bs_azimuth_bias_rad; },
+          localization::simulator_range::angle_bias,
+          "BS array azimuth misalignment [rad]: every UAV's beacon azimuth reads this much more (the filters do "
+          "not know it)",
+          "0.0009765625")
+          .sets({"simulator.bs_azimuth_bias_rad"})
+          .unless_default(),
+      K::real(
+          kLoop, "bs_elevation_bias_rad", [](auto& c) -> auto& { return c.simulator.bs_elevation_bias_rad; },
+          localization::simulator_range::angle_bias, "BS array elevation misalignment [rad], as above",
+          "-0.00048828125")
+          .sets({"simulator.bs_elevation_bias_rad"})
+          .unless_default(),
+      K::real(
+          kLoop, "beacon_range_bias_m", [](auto& c) -> auto& { return c.simulator.beacon_range_bias_m; },
+          localization::simulator_range::position_error, "a range bias shared by every UAV's beacon [m]", "0.5")
+          .sets({"simulator.beacon_range_bias_m"})
+          .unless_default(),
+      K::text(
+          kLoop, "bs_position_error_m",
+          [](ClosedLoopConfig& c, const std::string& text, const std::string& where) {
+            c.simulator.bs_position_error_m = parse_position_error(text, where);
+          },
+          [](const ClosedLoopConfig& c) { return position_text(c.simulator.bs_position_error_m); },
+          "x, y, z: three numbers in [-1000, 1000]",
+          "where the BS stands relative to where the filters assume it, BS frame [m]", "0, 0.5, 0")
+          .sets({"simulator.bs_position_error_m"})
+          .unless_default(),
       K::real(
           kLoop, "dr_sigma_floor_m", [](const ClosedLoopConfig& c) { return c.simulator.dr_sigma_floor_m; },
           [](ClosedLoopConfig& c, double v) {

@@ -23,6 +23,7 @@ TEST(CoevaluationMetricTable, NamesOrderAndUnits_AreTheDocumentedColumns) {
                                                                      {"loc_lateral_rmse_m", "m"},
                                                                      {"common_lateral_m", "m"},
                                                                      {"shape_lateral_rmse_m", "m"},
+                                                                     {"shape_nees", ""},
                                                                      {"nees", ""},
                                                                      {"bf_fallback_fraction", ""},
                                                                      {"beacon_lateral_rmse_m", "m"},
@@ -48,15 +49,15 @@ TEST(CoevaluationMetricTable, EveryAlgorithmOfBothSweeps_SetsEveryDeclaredMetric
        {"experiment.sweeps=beacon_noise_m, beacon_outage", "experiment.trials=1", "placement.max_iterations=40",
         "coevaluation.beacon_noise_values_m=0.1", "closed_loop.num_particles=100", "coevaluation.outage_values=4",
         "coevaluation.outage_algorithms=gd_ekf, gd_ekf_nofallback, gd_pf, gd_ekf_ceres",
-        "coevaluation.algorithms=gd_gauss, gd_gauss_matched, gd_ekf, gd_ekf_nofallback, gd_pf, "
-        "gd_ekf_ceres, bf, ura_ekf, centralized"}) {
+        "coevaluation.algorithms=gd_gauss, gd_gauss_matched, gd_gauss_shape_matched, gd_ekf, gd_ekf_nofallback, "
+        "gd_pf, gd_ekf_ceres, bf, ura_ekf, centralized"}) {
     config.set_override(o);
   }
   const experiment::ExperimentSettings s = experiment::load_experiment_settings(config, experiment_extensions());
   std::vector<TrialRecord> records = run_beacon_noise_trial(s, 0, 0);
-  ASSERT_EQ(records.size(), 9u);
+  ASSERT_EQ(records.size(), 10u);
   for (TrialRecord& r : run_outage_trial(s, 0, 0)) records.push_back(std::move(r));
-  ASSERT_EQ(records.size(), 13u);
+  ASSERT_EQ(records.size(), 14u);
   // THEN each record sets every declared metric (extension_columns refuses one left unset)
   for (const TrialRecord& r : records) {
     std::vector<double> columns;
@@ -68,7 +69,11 @@ TEST(CoevaluationMetricTable, EveryAlgorithmOfBothSweeps_SetsEveryDeclaredMetric
     } else {
       EXPECT_TRUE(std::isfinite(r.extension.at(kLocLateralRmse))) << r.sweep << " " << r.algorithm;
     }
-    EXPECT_EQ(std::isnan(r.extension.at(kPairedIterationsDiff)), r.algorithm != "gd_gauss_matched") << r.algorithm;
+    const bool matched = r.algorithm == "gd_gauss_matched" || r.algorithm == "gd_gauss_shape_matched";
+    EXPECT_EQ(std::isnan(r.extension.at(kPairedIterationsDiff)), !matched) << r.algorithm;
+    // AND a shape NEES exactly where there are beliefs with covariances: the filter rows
+    const bool filter = r.algorithm.find("ekf") != std::string::npos || r.algorithm.find("pf") != std::string::npos;
+    EXPECT_EQ(std::isfinite(r.extension.at(kShapeNees)), filter) << r.sweep << " " << r.algorithm;
   }
 }
 

@@ -79,6 +79,39 @@ TEST(OneEngine, GdGaussAtZeroNoise_IsTheBuiltInSigmaLocSweepsGd_WithoutActuation
   }
 }
 
+TEST(OneEngine, GdGaussShapeMatched_IsTheExperimentsGdAtTheSigmaWhoseExpectedShapeErrorIsGdEkfs_BitForBit) {
+  // GIVEN: gd_ekf and gd_gauss_shape_matched at beacon noise 0.1 m, 16 UAVs.
+  const experiment::ExperimentSettings s = settings("0.1", {"coevaluation.algorithms=gd_ekf, gd_gauss_shape_matched"});
+  const int n = s.placement.scenario.num_uavs;
+  ASSERT_EQ(n, 16);
+  for (int trial = 0; trial < 2; ++trial) {
+    const std::vector<experiment::TrialRecord> records = run_beacon_noise_trial(s, 0, trial);
+    const experiment::TrialRecord& ekf = record_of(records, "gd_ekf");
+    const experiment::TrialRecord& matched = record_of(records, "gd_gauss_shape_matched");
+    // WHEN: the experiment's GD at the sigma whose expected shape RMSE, with 2N coordinates less
+    // 2 translations and 1 rotation, sigma sqrt(29 / 16), is gd_ekf's measured one.
+    const double sigma_m = ekf.extension.at(kShapeLateralRmse) / std::sqrt(29.0 / 16.0);
+    ASSERT_GT(sigma_m, 1e-3);
+    // (the shape is a part of the lateral error: the matched sigma is below the lateral match)
+    EXPECT_LT(ekf.extension.at(kShapeLateralRmse), ekf.extension.at(kLocLateralRmse));
+    placement::PlacementSettings p = s.placement;
+    p.errors.sigma_loc_m = sigma_m;
+    const Eigen::Matrix3Xd start = experiment::trial_start_positions_m(s, trial);
+    const std::uint64_t seed = experiment::trial_seed(s, kSweepBeaconNoise, 0, trial);
+    const placement::RunResult gd =
+        experiment::run_algorithm(s, p, experiment::Algorithm::kGd, trial, start, seed, s.placement.run);
+    // THEN: the row is that run, bit for bit, and reports the model's split at that sigma.
+    EXPECT_EQ(matched.iterations, gd.iterations) << "trial " << trial;
+    EXPECT_EQ(matched.final_m, gd.final_m) << "trial " << trial;
+    EXPECT_NEAR(matched.extension.at(kShapeLateralRmse), ekf.extension.at(kShapeLateralRmse),
+                1e-12 * ekf.extension.at(kShapeLateralRmse));
+    EXPECT_NEAR(matched.extension.at(kCommonLateral), sigma_m * std::sqrt(2.0 / 16.0), 1e-15);
+    EXPECT_EQ(matched.extension.at(kLocLateralRmse), std::sqrt(2.0) * sigma_m);
+    EXPECT_TRUE(std::isnan(matched.extension.at(kShapeNees)));
+    EXPECT_EQ(matched.extension.at(kPairedIterationsDiff), static_cast<double>(ekf.iterations - gd.iterations));
+  }
+}
+
 TEST(OneEngine, GdGaussMatched_IsTheExperimentsGdAtGdEkfsMeasuredLateralError_BitForBit) {
   // GIVEN: gd_ekf and gd_gauss_matched at beacon noise 0.1 m.
   const experiment::ExperimentSettings s = settings("0.1", {"coevaluation.algorithms=gd_ekf, gd_gauss_matched"});

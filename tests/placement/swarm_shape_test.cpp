@@ -3,15 +3,19 @@
 // translation of the swarm (second order), while an independent error of the same size breaks it.
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
+
 #include <cmath>
 #include <iostream>
 #include <random>
+#include <vector>
 
 #include "losmimo/placement/channel.h"
 #include "losmimo/placement/metrics.h"
 #include "losmimo/placement/scenario.h"
 #include "losmimo/placement/swarm_shape.h"
 #include "losmimo/placement/ura.h"
+#include "support/shape_nees.h"
 
 namespace losmimo::placement {
 namespace {
@@ -111,6 +115,130 @@ TEST(SwarmShape, Icn_IsBlindToACommonLateralTranslation_NotToAnIndependentErrorO
     EXPECT_GT(icn0 - icn_scattered, 20.0 * std::abs(icn_moved - icn0)) << size_m;
     EXPECT_GT(split_swarm_error(truth, scattered).shape_lateral_rmse_m, 0.7 * size_m);
   }
+}
+
+// Independent errors drawn per UAV from a random (anisotropic, UAV-specific) lateral covariance.
+struct Draws {
+  std::vector<Eigen::Matrix2d> cov_m2;
+  std::vector<Eigen::Matrix2d> chol;  // lower factors
+};
+
+Draws random_covariances(Eigen::Index n, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0.5, 2.0), a(0.0, M_PI);
+  Draws d;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const double th = a(rng);
+    Eigen::Matrix2d r;
+    r << std::cos(th), -std::sin(th), std::sin(th), std::cos(th);
+    const Eigen::Matrix2d c = 1e-4 * r * Eigen::Vector2d(u(rng), 4.0 * u(rng)).asDiagonal() * r.transpose();
+    d.cov_m2.push_back(0.5 * (c + c.transpose()));
+    d.chol.push_back(d.cov_m2.back().llt().matrixL());
+  }
+  return d;
+}
+
+Eigen::Matrix3Xd draw(const Eigen::Matrix3Xd& truth, const Draws& d, double scale, std::mt19937_64& rng) {
+  std::normal_distribution<double> n01;
+  Eigen::Matrix3Xd est = truth;
+  for (Eigen::Index k = 0; k < truth.cols(); ++k) {
+    est(0, k) += 0.3 * n01(rng);  // boresight error: outside the shape, must not count
+    est.col(k).tail<2>() += scale * d.chol[static_cast<std::size_t>(k)] * Eigen::Vector2d(n01(rng), n01(rng));
+  }
+  return est;
+}
+
+TEST(SwarmShape, DegreesOfFreedom_AreTwoPerUavLessTranslationAndRotation) {
+  EXPECT_EQ(shape_dof(ura()), 2 * 16 - 3);
+  EXPECT_EQ(shape_dof(Eigen::Matrix3Xd::Zero(3, 1)), 0);
+  EXPECT_EQ(shape_dof(Eigen::Matrix3Xd::Zero(3, 4)), 2 * 4 - 2);  // all at one point: no rotation
+}
+
+TEST(SwarmShape, ExpectedSplitOfIndependentErrors_MatchesMonteCarlo) {
+  const Eigen::Matrix3Xd truth = ura();
+  const double sigma_m = 0.04;
+  const ExpectedSwarmSplit want = expected_split_of_independent_errors(static_cast<int>(truth.cols()), sigma_m);
+  EXPECT_EQ(expected_split_of_independent_errors(1, sigma_m).shape_lateral_rmse_m, 0.0);
+  EXPECT_THROW(expected_split_of_independent_errors(0, sigma_m), std::invalid_argument);
+  EXPECT_THROW(expected_split_of_independent_errors(4, std::nan("")), std::invalid_argument);
+  EXPECT_NEAR(want.common_lateral_rms_m, sigma_m * std::sqrt(2.0 / 16.0), 1e-15);
+  std::mt19937_64 rng(21);
+  std::normal_distribution<double> n01;
+  SwarmShapeAccumulator acc;
+  const int epochs = 4000;
+  for (int i = 0; i < epochs; ++i) {
+    Eigen::Matrix3Xd est = truth;
+    for (Eigen::Index k = 0; k < truth.cols(); ++k)
+      est.col(k) += sigma_m * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
+    acc.add(truth, est);
+  }
+  // Mean squares of chi-square sums: relative sd sqrt(2 / dof / epochs) (0.5% shape, 1.6% common).
+  const double shape_ms = acc.shape_lateral_rmse_m() * acc.shape_lateral_rmse_m();
+  const double common_ms = acc.common_lateral_rms_m() * acc.common_lateral_rms_m();
+  const double want_shape_ms = want.shape_lateral_rmse_m * want.shape_lateral_rmse_m;
+  const double want_common_ms = want.common_lateral_rms_m * want.common_lateral_rms_m;
+  EXPECT_NEAR(shape_ms / want_shape_ms, 1.0, 4.0 * std::sqrt(2.0 / 29.0 / epochs));
+  EXPECT_NEAR(common_ms / want_common_ms, 1.0, 4.0 * std::sqrt(2.0 / 2.0 / epochs));
+  // Negative control: the whole lateral RMSE, sqrt(2) sigma, is not the shape's.
+  EXPECT_GT(std::abs(std::sqrt(2.0) * sigma_m / want.shape_lateral_rmse_m - 1.0), 0.04);
+}
+
+TEST(SwarmShape, ShapeNees_OfIsotropicCovariance_IsTheShapeResidualOverSigmaSquared) {
+  // With S = sigma^2 I the projection commutes with S: NEES = |shape residual|^2 / sigma^2 / dof,
+  // the residual taken from split_swarm_error's least squares, a different computation.
+  const Eigen::Matrix3Xd truth = ura();
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> n01;
+  Eigen::Matrix3Xd est = truth;
+  for (Eigen::Index k = 0; k < est.cols(); ++k) est.col(k) += 0.02 * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
+  est.bottomRows<2>().colwise() += Eigen::Vector2d(0.5, -0.3);  // a common offset: not in the shape
+  const double sigma_m = 0.03;
+  const std::vector<Eigen::Matrix2d> cov(16, sigma_m * sigma_m * Eigen::Matrix2d::Identity());
+  const SwarmErrorSplit split = split_swarm_error(truth, est);
+  const double want = split.shape_lateral_m.squaredNorm() / (sigma_m * sigma_m) / shape_dof(truth);
+  EXPECT_NEAR(shape_nees_per_dof(truth, est, cov), want, 1e-9 * want);
+}
+
+TEST(SwarmShape, ShapeNees_OfAnisotropicCovariances_IsThePseudoInverseForm) {
+  const Eigen::Matrix3Xd truth = ura();
+  std::mt19937_64 rng(12);
+  const Draws d = random_covariances(truth.cols(), rng);
+  for (int i = 0; i < 5; ++i) {
+    const Eigen::Matrix3Xd est = draw(truth, d, 1.0, rng);
+    const double want = test_support::shape_nees_by_pseudo_inverse(truth, est, d.cov_m2);
+    EXPECT_NEAR(shape_nees_per_dof(truth, est, d.cov_m2), want, 1e-9 * want) << i;
+  }
+}
+
+TEST(SwarmShape, ShapeNees_IsOneForConsistentBeliefs_TwoForBeliefsTwiceTooSure) {
+  const Eigen::Matrix3Xd truth = ura();
+  std::mt19937_64 rng(8);
+  const Draws d = random_covariances(truth.cols(), rng);
+  SwarmShapeAccumulator consistent, overconfident;
+  std::vector<Eigen::Matrix2d> half;
+  for (const auto& c : d.cov_m2) half.push_back(0.5 * c);
+  const int epochs = 2000;
+  for (int i = 0; i < epochs; ++i) {
+    const Eigen::Matrix3Xd est = draw(truth, d, 1.0, rng);
+    consistent.add(truth, est, d.cov_m2);
+    overconfident.add(truth, est, half);
+  }
+  // chi-square(29) / 29 averaged over 2000 epochs: sd sqrt(2 / 29 / 2000) = 0.006.
+  const double sd = std::sqrt(2.0 / 29.0 / epochs);
+  EXPECT_NEAR(consistent.shape_nees_per_dof(), 1.0, 4.0 * sd);
+  EXPECT_NEAR(overconfident.shape_nees_per_dof(), 2.0, 8.0 * sd);
+  EXPECT_EQ(consistent.epochs(), epochs);
+}
+
+TEST(SwarmShape, ShapeNees_RefusesBadCovariances) {
+  const Eigen::Matrix3Xd truth = ura();
+  std::vector<Eigen::Matrix2d> cov(16, 1e-4 * Eigen::Matrix2d::Identity());
+  EXPECT_THROW(shape_nees_per_dof(truth, truth, std::vector<Eigen::Matrix2d>(15, cov[0])), std::invalid_argument);
+  cov[4](0, 0) = -1.0;
+  EXPECT_THROW(shape_nees_per_dof(truth, truth, cov), std::invalid_argument);
+  cov[4] = Eigen::Matrix2d::Identity();
+  cov[4](0, 1) = 0.5;  // not symmetric
+  EXPECT_THROW(shape_nees_per_dof(truth, truth, cov), std::invalid_argument);
+  EXPECT_TRUE(std::isnan(shape_nees_per_dof(truth.leftCols(1), truth.leftCols(1), {cov[0]})));
 }
 
 }  // namespace

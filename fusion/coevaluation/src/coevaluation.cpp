@@ -22,6 +22,10 @@ localization::SimulatorConfig simulator_config(const CoevaluationSettings& c, co
   sim.sigma_angle_rad = beacon_noise_m / scenario.range_m();
   sim.dr_sigma_floor_m = c.closed_loop.simulator.dr_sigma_floor_m;
   sim.dr_sigma_fraction = c.closed_loop.simulator.dr_sigma_fraction;
+  sim.bs_azimuth_bias_rad = c.closed_loop.simulator.bs_azimuth_bias_rad;
+  sim.bs_elevation_bias_rad = c.closed_loop.simulator.bs_elevation_bias_rad;
+  sim.beacon_range_bias_m = c.closed_loop.simulator.beacon_range_bias_m;
+  sim.bs_position_error_m = c.closed_loop.simulator.bs_position_error_m;
   return sim;
 }
 
@@ -59,6 +63,7 @@ experiment::TrialRecord closed_loop_record(const experiment::ExperimentSettings&
   rec.extension.set(kLocLateralRmse, r.stats.lateral_rmse_m);
   rec.extension.set(kCommonLateral, r.stats.common_lateral_rms_m);
   rec.extension.set(kShapeLateralRmse, r.stats.shape_lateral_rmse_m);
+  rec.extension.set(kShapeNees, r.stats.shape_nees_per_dof);
   rec.extension.set(kNees, r.stats.average_nees);
   rec.extension.set(kBfFallbackFraction, fallback_fraction(r.stats, r.run.iterations));
   rec.extension.set(kBeaconLateralRmse, r.stats.num_beacons > 0 ? r.stats.beacon_only_lateral_rmse_m : kNaN);

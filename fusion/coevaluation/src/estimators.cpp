@@ -31,10 +31,13 @@ constexpr std::uint64_t kSourceSimulatorStream = 0x55524153;  // "URAS"
 constexpr std::uint64_t kSourceFilterStream = 0x55524146;     // "URAF"
 
 // The metrics of a run that placed from the Gaussian model's positions, sigma_loc_m per axis.
-void set_gaussian_metrics(experiment::TrialRecord& r, double sigma_loc_m) {
+void set_gaussian_metrics(experiment::TrialRecord& r, double sigma_loc_m, int num_uavs) {
   r.extension.set(kLocRmse, std::sqrt(3.0) * sigma_loc_m);
   r.extension.set(kLocLateralRmse, std::sqrt(2.0) * sigma_loc_m);
-  not_applicable(r, {kCommonLateral, kShapeLateralRmse, kNees, kBfFallbackFraction, kBeaconLateralRmse});
+  const placement::ExpectedSwarmSplit split = placement::expected_split_of_independent_errors(num_uavs, sigma_loc_m);
+  r.extension.set(kCommonLateral, split.common_lateral_rms_m);
+  r.extension.set(kShapeLateralRmse, split.shape_lateral_rmse_m);
+  not_applicable(r, {kShapeNees, kNees, kBfFallbackFraction, kBeaconLateralRmse});
 }
 
 std::optional<std::string> needs_positions(const placement::PlannerEntry& planner, const std::string& estimator) {
@@ -88,6 +91,8 @@ class FilterPositionSource {
     }
     epochs_truth_[e].col(m) = q_m;
     epochs_mean_[e].col(m) = est.belief.mean_m;
+    if (epochs_cov_.size() <= e) epochs_cov_.resize(e + 1, std::vector<Eigen::Matrix2d>(uavs_.size()));
+    epochs_cov_[e][static_cast<std::size_t>(m)] = est.belief.cov_m2.bottomRightCorner<2, 2>();
     if (est.beacon_fix_m) beacon_only_errors_.add(*est.beacon_fix_m, q_m);
     return est.belief.mean_m;
   }
@@ -98,10 +103,12 @@ class FilterPositionSource {
     r.extension.set(kLocLateralRmse, errors_.lateral_rmse_m());
     placement::SwarmShapeAccumulator shape;  // the epochs every UAV was estimated in
     for (std::size_t e = 0; e < epochs_truth_.size(); ++e) {
-      if (epochs_truth_[e].allFinite() && epochs_mean_[e].allFinite()) shape.add(epochs_truth_[e], epochs_mean_[e]);
+      if (epochs_truth_[e].allFinite() && epochs_mean_[e].allFinite())
+        shape.add(epochs_truth_[e], epochs_mean_[e], epochs_cov_[e]);
     }
     r.extension.set(kCommonLateral, shape.common_lateral_rms_m());
     r.extension.set(kShapeLateralRmse, shape.shape_lateral_rmse_m());
+    r.extension.set(kShapeNees, shape.shape_nees_per_dof());
     r.extension.set(kNees, errors_.average_nees());
     r.extension.set(kBeaconLateralRmse, beacon_only_errors_.lateral_rmse_m());
     not_applicable(r, {kBfFallbackFraction, kPairedTravelDiff, kPairedIterationsDiff});
@@ -117,6 +124,7 @@ class FilterPositionSource {
   std::vector<Uav> uavs_;
   localization::ErrorAccumulator errors_, beacon_only_errors_;
   std::vector<Eigen::Matrix3Xd> epochs_truth_, epochs_mean_;  // [epoch]: 3 x Nr, NaN where not estimated
+  std::vector<std::vector<Eigen::Matrix2d>> epochs_cov_;      // [epoch][uav]: the belief's lateral covariance
 };
 
 // The placement settings every row but gauss's starts from: no Gaussian localization error.
@@ -141,8 +149,8 @@ EstimatorEntry truth() {
   e.refuses = [](const placement::PlannerEntry&) { return std::nullopt; };
   e.run = [](const CoevalRow& row, const placement::PlannerEntry& planner, const CoevalTrial& t) {
     experiment::TrialRecord r = run_planner(row, planner, t, exact_positions(t));
-    not_applicable(r, {kLocRmse, kLocLateralRmse, kCommonLateral, kShapeLateralRmse, kNees, kBfFallbackFraction,
-                       kBeaconLateralRmse, kPairedTravelDiff, kPairedIterationsDiff});
+    not_applicable(r, {kLocRmse, kLocLateralRmse, kCommonLateral, kShapeLateralRmse, kShapeNees, kNees,
+                       kBfFallbackFraction, kBeaconLateralRmse, kPairedTravelDiff, kPairedIterationsDiff});
     return r;
   };
   return e;
@@ -157,38 +165,65 @@ EstimatorEntry gauss() {
     placement::PlacementSettings p = t.settings.placement;
     p.errors.sigma_loc_m = t.beacon_noise_m;
     experiment::TrialRecord r = run_planner(row, planner, t, p);
-    set_gaussian_metrics(r, t.beacon_noise_m);
+    set_gaussian_metrics(r, t.beacon_noise_m, static_cast<int>(t.start_m.cols()));
     not_applicable(r, {kPairedTravelDiff, kPairedIterationsDiff});
     return r;
   };
   return e;
 }
 
-EstimatorEntry gauss_matched() {
+// The Gaussian model at the sigma that `sigma_of_ekf` takes from the same planner's ekf record
+// (the one already run in this trial, else its own run for this row alone), with the paired
+// travel and iteration differences against that record.
+experiment::TrialRecord run_matched_gaussian(const CoevalRow& row, const placement::PlannerEntry& planner,
+                                             const CoevalTrial& t,
+                                             double (*sigma_of_ekf)(const experiment::TrialRecord&, int num_uavs)) {
+  const CoevalRow ekf_row{planner.name + "+ekf", planner.name, "ekf"};
+  std::optional<experiment::TrialRecord> ekf;
+  for (std::size_t i = 0; i < t.rows_done.size(); ++i) {
+    if (t.rows_done[i].same_pair(ekf_row)) ekf = t.records_done[i];
+  }
+  if (!ekf) ekf = estimator_entry("ekf").run(ekf_row, planner, t);
+  const int num_uavs = static_cast<int>(t.start_m.cols());
+  placement::PlacementSettings p = t.settings.placement;
+  p.errors.sigma_loc_m = sigma_of_ekf(*ekf, num_uavs);
+  experiment::TrialRecord own = run_planner(row, planner, t, p);
+  set_gaussian_metrics(own, p.errors.sigma_loc_m, num_uavs);
+  own.extension.set(kPairedTravelDiff, ekf->dist_to_icn095_m - own.dist_to_icn095_m);
+  own.extension.set(kPairedIterationsDiff, static_cast<double>(ekf->iterations - own.iterations));
+  return own;
+}
+
+EstimatorEntry matched_gaussian(const std::string& name, const std::string& summary,
+                                double (*sigma_of_ekf)(const experiment::TrialRecord&, int num_uavs)) {
   EstimatorEntry e;
-  e.name = "gauss_matched";
-  e.summary = "the Gaussian at the lateral RMSE the same planner's ekf row measured (same trial and point)";
-  e.refuses = [](const placement::PlannerEntry& planner) {
-    if (auto why = needs_positions(planner, "gauss_matched")) return why;
+  e.name = name;
+  e.summary = summary;
+  e.refuses = [name](const placement::PlannerEntry& planner) {
+    if (auto why = needs_positions(planner, name)) return why;
     return estimator_entry("ekf").refuses(planner);
   };
-  e.run = [](const CoevalRow& row, const placement::PlannerEntry& planner, const CoevalTrial& t) {
-    // The ekf row of this planner: the one already run, else its own run for this row alone.
-    const CoevalRow ekf_row{planner.name + "+ekf", planner.name, "ekf"};
-    std::optional<experiment::TrialRecord> ekf;
-    for (std::size_t i = 0; i < t.rows_done.size(); ++i) {
-      if (t.rows_done[i].same_pair(ekf_row)) ekf = t.records_done[i];
-    }
-    if (!ekf) ekf = estimator_entry("ekf").run(ekf_row, planner, t);
-    placement::PlacementSettings p = t.settings.placement;
-    p.errors.sigma_loc_m = ekf->extension.at(kLocLateralRmse) / std::sqrt(2.0);  // the same lateral RMSE
-    experiment::TrialRecord own = run_planner(row, planner, t, p);
-    set_gaussian_metrics(own, p.errors.sigma_loc_m);
-    own.extension.set(kPairedTravelDiff, ekf->dist_to_icn095_m - own.dist_to_icn095_m);
-    own.extension.set(kPairedIterationsDiff, static_cast<double>(ekf->iterations - own.iterations));
-    return own;
+  e.run = [sigma_of_ekf](const CoevalRow& row, const placement::PlannerEntry& planner, const CoevalTrial& t) {
+    return run_matched_gaussian(row, planner, t, sigma_of_ekf);
   };
   return e;
+}
+
+EstimatorEntry gauss_matched() {
+  return matched_gaussian(
+      "gauss_matched", "the Gaussian at the lateral RMSE the same planner's ekf row measured (same trial and point)",
+      [](const experiment::TrialRecord& ekf, int) { return ekf.extension.at(kLocLateralRmse) / std::sqrt(2.0); });
+}
+
+EstimatorEntry gauss_shape_matched() {
+  // sigma such that the model's expected shape RMSE, sigma sqrt((2N - 3) / N), is the ekf's.
+  return matched_gaussian(
+      "gauss_shape_matched",
+      "the Gaussian at the shape RMSE (common offset and rotation removed) the same planner's ekf row measured",
+      [](const experiment::TrialRecord& ekf, int num_uavs) {
+        const double unit = placement::expected_split_of_independent_errors(num_uavs, 1.0).shape_lateral_rmse_m;
+        return unit > 0.0 ? ekf.extension.at(kShapeLateralRmse) / unit : 0.0;
+      });
 }
 
 // The filter family: `kind`, refined or not, with or without gd's BF fallback.
@@ -261,6 +296,7 @@ std::vector<EstimatorEntry> builtin_estimators() {
   return {truth(),
           gauss(),
           gauss_matched(),
+          gauss_shape_matched(),
           filter("ekf", "every UAV's EKF on beacon + dead reckoning (gd: the closed loop, BF fallback on)", {},
                  {FilterKind::kEkf, false, true}),
           filter("ekf_nofallback", "gd's closed loop with the EKF and the BF fallback off", {},

@@ -12,6 +12,7 @@
 #include "losmimo/placement/common/atomic_file.h"
 #include "losmimo/placement/common/format.h"
 #include "losmimo/placement/common/gnuplot.h"
+#include "losmimo/placement/swarm_shape.h"
 
 namespace losmimo::coevaluation {
 
@@ -193,15 +194,26 @@ std::vector<std::string> write_beacon_noise_figures(const experiment::Experiment
   return render(s, dir, {"coeval_sinr", "coeval_travel", "coeval_rmse"});
 }
 
-// gd_ekf against gd_gauss_matched (the same lateral error, drawn as the paper's Gaussian) at
-// every beacon noise: the paired differences of the same trials (gd_gauss_matched's
-// paired_travel_diff_m and paired_iterations_diff), mean and 95% CI.
-std::string matched_error_section(const std::vector<SummaryRow>& rows, const std::vector<double>& values) {
-  const std::string ekf = "gd_ekf", gauss = "gd_gauss_matched";
+// The two matched Gaussian rows: at gd_ekf's lateral RMSE and at its shape RMSE.
+struct MatchedGaussian {
+  const char* alias;
+  const char* heading;
+  const char* how;                      // how its sigma_loc is taken from gd_ekf's error
+  const char* same_error;               // what the two rows share
+  experiment::ExtensionMetric matched;  // gd_ekf's metric it matches
+  double matched_per_sigma;             // that metric's expected value per unit sigma_loc
+};
+
+// gd_ekf against a matched Gaussian row at every beacon noise: the paired differences of the
+// same trials (the row's paired_travel_diff_m and paired_iterations_diff), mean and 95% CI.
+std::string matched_error_section(const std::vector<SummaryRow>& rows, const std::vector<double>& values,
+                                  const MatchedGaussian& m) {
+  const std::string ekf = "gd_ekf", gauss = m.alias;
   std::ostringstream md;
-  md << "\n### Integrating the estimator at matched error\n\n"
-     << "`" << gauss << "` runs the paper's GD with sigma_loc = `" << ekf << "`'s measured lateral RMSE / sqrt(2) "
-     << "in the same trial, so both place from positions that are off by the same lateral RMSE; only the error's "
+  md << "\n### " << m.heading << "\n\n"
+     << "`" << gauss << "` runs the paper's GD with sigma_loc = `" << ekf << "`'s " << m.how
+     << " in the same trial, so both place from positions that are off by the same " << m.same_error
+     << "; only the error's "
      << "structure differs (the filter's is correlated over iterations and comes with its covariance). Differences "
      << "are paired (same start, same trial): " << ekf << " minus " << gauss << ", over the trials where both "
      << "reached ICN 0.95; negative values favour the estimator.\n\n"
@@ -214,10 +226,10 @@ std::string matched_error_section(const std::vector<SummaryRow>& rows, const std
     const SummaryRow* b = find_row(rows, kSweepBeaconNoise, v, gauss);
     if (!a || !b) continue;
     const Estimate* travel = b->metric(kPairedTravelDiff);
-    const Estimate* sigma = b->metric(kLocLateralRmse);
-    md << "| " << fmt(v, 3) << " | " << (sigma && sigma->n > 0 ? fmt(sigma->mean / std::sqrt(2.0), 4) : "n/a") << " | "
-       << converged(*a) << " / " << converged(*b) << " | " << fmt_estimate(a->metric(metrics::kDistToIcn095M)) << " | "
-       << fmt_estimate(b->metric(metrics::kDistToIcn095M)) << " | " << fmt_estimate(travel) << " | "
+    const Estimate* sigma = b->metric(m.matched);
+    md << "| " << fmt(v, 3) << " | " << (sigma && sigma->n > 0 ? fmt(sigma->mean / m.matched_per_sigma, 4) : "n/a")
+       << " | " << converged(*a) << " / " << converged(*b) << " | " << fmt_estimate(a->metric(metrics::kDistToIcn095M))
+       << " | " << fmt_estimate(b->metric(metrics::kDistToIcn095M)) << " | " << fmt_estimate(travel) << " | "
        << fmt_estimate(b->metric(kPairedIterationsDiff), 1) << " | ";
     if (!travel || travel->n < 2 || !std::isfinite(travel->ci95)) {
       md << "not evaluated (fewer than 2 paired trials)";
@@ -233,6 +245,26 @@ std::string matched_error_section(const std::vector<SummaryRow>& rows, const std
   }
   if (rows_written == 0) return {};
   return md.str();
+}
+
+std::string matched_error_sections(const experiment::ExperimentSettings& s, const std::vector<SummaryRow>& rows,
+                                   const std::vector<double>& values) {
+  const int n = s.placement.scenario.num_uavs;
+  const double unit_shape = placement::expected_split_of_independent_errors(n, 1.0).shape_lateral_rmse_m;
+  const MatchedGaussian lateral{"gd_gauss_matched",
+                                "Integrating the estimator at matched error",
+                                "measured lateral RMSE / sqrt(2)",
+                                "lateral RMSE",
+                                kLocLateralRmse,
+                                std::sqrt(2.0)};
+  const MatchedGaussian shape{"gd_gauss_shape_matched",
+                              "Integrating the estimator at matched shape error",
+                              "measured shape RMSE / sqrt((2N - 3) / N) (common lateral offset and rotation about "
+                              "boresight removed, placement/swarm_shape.h)",
+                              "shape RMSE, the part of the error the channel sees",
+                              kShapeLateralRmse,
+                              unit_shape};
+  return matched_error_section(rows, values, lateral) + matched_error_section(rows, values, shape);
 }
 
 namespace {
@@ -347,7 +379,7 @@ std::string beacon_noise_report_section(const experiment::ExperimentSettings& s,
   const double vmax = *std::max_element(values.begin(), values.end());
   const std::vector<std::string> algorithms = algorithms_of(rows, kSweepBeaconNoise);
   std::ostringstream md;
-  md << beacon_noise_table(s, c, rows, algorithms, v0, vmax) << matched_error_section(rows, values)
+  md << beacon_noise_table(s, c, rows, algorithms, v0, vmax) << matched_error_sections(s, rows, values)
      << nv_sinr_loss_section(s, rows, algorithms, v0, vmax);
   md << "\nResolved co-evaluation settings:\n\n```ini\n" << to_ini(c) << "```\n";
   return md.str();

@@ -50,9 +50,17 @@ void require_closed_loop(const std::vector<CoevalRow>& rows, const std::string& 
 
 // The [closed_loop] keys the co-evaluation reads, with the spellings [coevaluation] had for them.
 constexpr std::pair<const char*, const char*> kSharedClosedLoopKeys[] = {
-    {"beacon_sigma_range_m", "sigma_range_m"},  {"dr_sigma_floor_m", "dr_sigma_floor_m"},
-    {"dr_sigma_fraction", "dr_sigma_fraction"}, {"num_particles", "pf_particles"},
-    {"window_epochs", "refine_window_epochs"},  {"use_csi", "refine_use_csi"}};
+    {"beacon_sigma_range_m", "sigma_range_m"},
+    {"dr_sigma_floor_m", "dr_sigma_floor_m"},
+    {"dr_sigma_fraction", "dr_sigma_fraction"},
+    {"num_particles", "pf_particles"},
+    {"window_epochs", "refine_window_epochs"},
+    {"use_csi", "refine_use_csi"},
+    // the common-mode beacon errors (no older spelling)
+    {"bs_azimuth_bias_rad", nullptr},
+    {"bs_elevation_bias_rad", nullptr},
+    {"beacon_range_bias_m", nullptr},
+    {"bs_position_error_m", nullptr}};
 
 std::vector<common::Key<CoevaluationSettings>> coevaluation_key_list() {
   using K = common::Key<CoevaluationSettings>;
@@ -113,7 +121,9 @@ std::vector<common::Key<CoevaluationSettings>> coevaluation_key_list() {
 const common::KeyTable<CoevaluationSettings>& coevaluation_keys() {
   static const common::KeyTable<CoevaluationSettings> table = [] {
     common::KeyTable<CoevaluationSettings> t(coevaluation_key_list());
-    for (const auto& [key, old_key] : kSharedClosedLoopKeys) t.renamed(kSection, old_key, "closed_loop", key);
+    for (const auto& [key, old_key] : kSharedClosedLoopKeys) {
+      if (old_key) t.renamed(kSection, old_key, "closed_loop", key);
+    }
     return t;
   }();
   return table;
@@ -172,8 +182,8 @@ std::string to_ini(const CoevaluationSettings& c) { return coevaluation_keys().t
 
 const experiment::ExtensionMetrics& coevaluation_metrics() {
   static const experiment::ExtensionMetrics kTable = {
-      kLocRmse,           kLocLateralRmse,   kCommonLateral,       kShapeLateralRmse, kNees, kBfFallbackFraction,
-      kBeaconLateralRmse, kPairedTravelDiff, kPairedIterationsDiff};
+      kLocRmse, kLocLateralRmse,     kCommonLateral,     kShapeLateralRmse, kShapeNees,
+      kNees,    kBfFallbackFraction, kBeaconLateralRmse, kPairedTravelDiff, kPairedIterationsDiff};
   return kTable;
 }
 

@@ -28,6 +28,11 @@ void validate(const SimulatorConfig& config) {
   require(r::sigma, config.dr_sigma_floor_m, "dr_sigma_floor_m");
   require(r::sigma, config.dr_sigma_fraction, "dr_sigma_fraction");
   require(r::sigma, config.sigma_act_m, "sigma_act_m");
+  require(r::angle_bias, config.bs_azimuth_bias_rad, "bs_azimuth_bias_rad");
+  require(r::angle_bias, config.bs_elevation_bias_rad, "bs_elevation_bias_rad");
+  require(r::position_error, config.beacon_range_bias_m, "beacon_range_bias_m");
+  for (int a = 0; a < 3; ++a)
+    require(r::position_error, config.bs_position_error_m(a), "bs_position_error_m[" + std::to_string(a) + "]");
 }
 
 SensorSimulator::SensorSimulator(const SimulatorConfig& config, std::uint64_t seed) : config_(config), rng_(seed) {
@@ -64,7 +69,11 @@ std::optional<BeaconMeasurement> SensorSimulator::measure_beacon(const Eigen::Ve
   const double sigma_range_m = outlier ? config_.outlier_sigma_range_m : config_.sigma_range_m;
   const double sigma_angle_rad = outlier ? config_.outlier_sigma_angle_rad : config_.sigma_angle_rad;
   if (outlier) ++num_outliers_;
-  const Eigen::Vector3d z_true = beacon_predict(true_q_m);
+  Eigen::Vector3d z_true = beacon_predict(true_q_m - config_.bs_position_error_m);
+  // Only when set, so that a config without them measures bit for bit as before (-0 + 0 is +0).
+  if (config_.beacon_range_bias_m != 0.0) z_true(0) += config_.beacon_range_bias_m;
+  if (config_.bs_azimuth_bias_rad != 0.0) z_true(1) += config_.bs_azimuth_bias_rad;
+  if (config_.bs_elevation_bias_rad != 0.0) z_true(2) += config_.bs_elevation_bias_rad;
   BeaconMeasurement z;
   z.range_m = z_true(0) + sigma_range_m * gaussian();
   z.azimuth_rad = wrap_angle_rad(z_true(1) + sigma_angle_rad * gaussian());

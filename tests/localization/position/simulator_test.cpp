@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "losmimo/localization/position/beacon_model.h"
@@ -116,6 +117,62 @@ TEST(SensorSimulator, SameSeed_SameSequence_OtherSeed_Differs) {
   EXPECT_EQ(za->range_m, zb->range_m);
   EXPECT_EQ(za->azimuth_rad, zb->azimuth_rad);
   EXPECT_NE(za->range_m, zc->range_m);
+}
+
+TEST(SensorSimulator, CommonModeErrors_AreTheBsMisplacedAndMisaligned_TheSameForEveryUav) {
+  // Noise-free, so each beacon is the geometry itself, computed here from the BS's true place.
+  SimulatorConfig config;
+  config.sigma_range_m = 0.0;
+  config.sigma_angle_rad = 0.0;
+  config.bs_azimuth_bias_rad = 1e-3;
+  config.bs_elevation_bias_rad = -5e-4;
+  config.beacon_range_bias_m = 0.25;
+  config.bs_position_error_m = Eigen::Vector3d(0.3, -0.5, 0.2);
+  for (const Eigen::Vector3d& q : {Eigen::Vector3d(1000.0, 2.0, -3.0), Eigen::Vector3d(995.0, -7.5, 4.0)}) {
+    SensorSimulator sim(config, 5);
+    const auto z = sim.measure_beacon(q, 0);
+    ASSERT_TRUE(z.has_value());
+    const Eigen::Vector3d d = q - config.bs_position_error_m;
+    EXPECT_NEAR(z->range_m, d.norm() + 0.25, 1e-9);
+    EXPECT_NEAR(z->azimuth_rad, std::atan2(d.y(), d.x()) + 1e-3, 1e-12);
+    EXPECT_NEAR(z->elevation_rad, std::atan2(d.z(), std::hypot(d.x(), d.y())) - 5e-4, 1e-12);
+    // Negative control: the nominal BS (origin, aligned) reads otherwise.
+    SimulatorConfig aligned;
+    aligned.sigma_range_m = aligned.sigma_angle_rad = 0.0;
+    SensorSimulator nominal(aligned, 5);
+    EXPECT_GT(std::abs(nominal.measure_beacon(q, 0)->azimuth_rad - z->azimuth_rad), 9e-4);
+  }
+}
+
+TEST(SensorSimulator, CommonModeErrorsUnset_MeasureBitForBitAsWithoutThem) {
+  SimulatorConfig zero;
+  zero.bs_azimuth_bias_rad = zero.bs_elevation_bias_rad = zero.beacon_range_bias_m = -0.0;
+  zero.bs_position_error_m = -Eigen::Vector3d::Zero();
+  SensorSimulator a(SimulatorConfig{}, 7), b(zero, 7);
+  const Eigen::Vector3d q(1000.0, 0.0, -0.0);
+  for (int k = 0; k < 50; ++k) {
+    const auto za = a.measure_beacon(q, k), zb = b.measure_beacon(q, k);
+    ASSERT_EQ(za.has_value(), zb.has_value());
+    if (!za) continue;
+    EXPECT_EQ(std::signbit(za->azimuth_rad), std::signbit(zb->azimuth_rad));
+    EXPECT_EQ(za->range_m, zb->range_m);
+    EXPECT_EQ(za->azimuth_rad, zb->azimuth_rad);
+    EXPECT_EQ(za->elevation_rad, zb->elevation_rad);
+  }
+}
+
+TEST(SensorSimulator, CommonModeErrorsOutOfRange_AreRefusedNamingTheField) {
+  SimulatorConfig c;
+  c.bs_azimuth_bias_rad = 0.5;
+  EXPECT_THROW(validate(c), std::exception);
+  c = SimulatorConfig{};
+  c.bs_position_error_m.y() = std::nan("");
+  try {
+    validate(c);
+    ADD_FAILURE() << "NaN BS position error accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("bs_position_error_m[1]"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

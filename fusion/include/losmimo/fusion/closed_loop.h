@@ -61,6 +61,7 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <limits>
 #include <vector>
 
 #include "losmimo/fusion/estimation_step.h"
@@ -186,6 +187,9 @@ struct ClosedLoopStats {
   // of the common lateral offset and the lateral shape residual's RMSE.
   double common_lateral_rms_m = 0.0;
   double shape_lateral_rmse_m = 0.0;
+  // Mean over those epochs of the shape residual's NEES over its degrees of freedom (1 when
+  // consistent; placement::shape_nees_per_dof); NaN when no epoch had one.
+  double shape_nees_per_dof = std::numeric_limits<double>::quiet_NaN();
   double beacon_only_rmse_m = 0.0;  // beacon_fix of every received beacon (0: none)
   double beacon_only_lateral_rmse_m = 0.0;
   int num_beacons = 0;

@@ -3,6 +3,7 @@
 #include "losmimo/fusion/rawlog/io/sandbox.h"
 #include "losmimo/fusion/rawlog/io/source.h"
 #include "object_bytes.h"
+#include "object_scanner.h"
 
 #include <algorithm>
 #include <cctype>
@@ -12,61 +13,18 @@
 #include <stdexcept>
 
 #include <mrpt/io/CMemoryStream.h>
-#include <mrpt/obs/CObservationBeaconRanges.h>
-#include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/obs/CObservationComment.h>
-#include <mrpt/obs/CObservationOdometry.h>
-#include <mrpt/obs/registerAllClasses.h>
-#include <mrpt/poses/CPoint3D.h>
-#include <mrpt/poses/CPose2D.h>
-#include <mrpt/poses/CPose3D.h>
-#include <mrpt/poses/CPose3DPDFGaussian.h>
 #include <mrpt/serialization/CArchive.h>
 
 namespace losmimo::rawlog_io {
 
 namespace {
 
-constexpr std::uint8_t kEndFlag = 0x88;  // CArchive's end-of-object byte
 constexpr std::size_t kChunk = 64 * 1024;
 
-// Why reading stopped, thrown inside the reader and turned into the status.
-struct Stop {
-  RawlogStop kind;
-  std::string reason;
-};
-
-// Serialized sizes of the fixed-size nested objects, measured from MRPT itself.
-struct Calibration {
-  std::vector<std::uint8_t> pose3d, pose3d_pdf, pose2d, point3d;  // whole envelopes of default objects
-  std::size_t bearing_cov_bytes = 0;                              // one TMeasurement::covariance
-  std::size_t odometry_velocity_bytes = 0;                        // CObservationOdometry::velocityLocal
-};
-
-const Calibration& calibration() {
-  static const Calibration c = [] {
-    mrpt::obs::registerAllClasses_mrpt_obs();
-    Calibration k;
-    k.pose3d = serialize(mrpt::poses::CPose3D());
-    k.pose3d_pdf = serialize(mrpt::poses::CPose3DPDFGaussian());
-    mrpt::obs::CObservationBearingRange b;
-    b.validCovariances = true;
-    const std::size_t n0 = serialize(b).size();
-    b.sensedData.resize(1);
-    b.sensedData[0].landmarkID = 0;
-    b.sensedData[0].covariance.setZero();
-    k.bearing_cov_bytes = serialize(b).size() - n0 - (3 * sizeof(float) + sizeof(std::int32_t));
-    k.pose2d = serialize(mrpt::poses::CPose2D());
-    k.point3d = serialize(mrpt::poses::CPoint3D());
-    mrpt::obs::CObservationOdometry odo;
-    odo.hasVelocities = false;
-    const std::size_t without = serialize(odo).size();
-    odo.hasVelocities = true;
-    k.odometry_velocity_bytes = serialize(odo).size() - without;
-    return k;
-  }();
-  return c;
-}
+using detail::calibration;
+using detail::kEndFlag;
+using detail::Stop;
 
 std::string first_line(const std::string& s) {
   std::string out;
@@ -112,7 +70,7 @@ std::string RawlogReadStatus::describe() const {
   return o.str();
 }
 
-struct RawlogReader::Impl {
+struct RawlogReader::Impl final : detail::ObjectWindow {
   RawlogReaderOptions options;
   std::unique_ptr<RawlogByteSource> source;
   // Where the sandbox's child reads the same log from (the file, or a copy of the bytes).
@@ -128,7 +86,7 @@ struct RawlogReader::Impl {
   RawlogReadStatus status;
 
   // At least k bytes from head buffered? Reads more as needed.
-  bool ensure(std::size_t k) {
+  bool ensure(std::size_t k) override {
     while (buf.size() - head < k) {
       if (source_ended) return false;
       if (head > 0 && head >= buf.size() / 2) {  // drop consumed bytes
@@ -155,59 +113,12 @@ struct RawlogReader::Impl {
     return true;
   }
 
-  // A cursor over the current object (offsets relative to head).
-  struct Cursor {
-    Impl& r;
-    std::size_t pos = 0;
-    void need(std::size_t n) {
-      if (n > r.options.max_object_bytes || pos + n > r.options.max_object_bytes)
-        throw Stop{RawlogStop::kLimit,
-                   "object larger than max_object_bytes (" + std::to_string(r.options.max_object_bytes) + ")"};
-      if (!r.ensure(pos + n)) throw Stop{RawlogStop::kTruncated, "data ends inside an object"};
-    }
-    const std::uint8_t* at() const { return r.buf.data() + r.head + pos; }
-    void skip(std::size_t n) {
-      need(n);
-      pos += n;
-    }
-    std::uint8_t u8() {
-      need(1);
-      return r.buf[r.head + pos++];
-    }
-    std::uint32_t u32() {
-      need(4);
-      std::uint32_t v;
-      std::memcpy(&v, at(), 4);
-      pos += 4;
-      return v;
-    }
-    void string(const char* what) {
-      const std::uint32_t n = u32();
-      if (n > r.options.max_string_bytes)
-        throw Stop{RawlogStop::kLimit, std::string(what) + " length " + std::to_string(n) + " above max_string_bytes"};
-      skip(n);
-    }
-    void vector(std::size_t elem_bytes, const char* what) {
-      const std::uint32_t n = u32();
-      if (static_cast<std::uint64_t>(n) * elem_bytes > r.options.max_object_bytes)
-        throw Stop{RawlogStop::kLimit, std::string(what) + " length " + std::to_string(n) + " above max_object_bytes"};
-      skip(n * elem_bytes);
-    }
-    // A nested fixed-size object: its header must match the calibrated one exactly.
-    void nested(const std::vector<std::uint8_t>& model, const char* what) {
-      const std::size_t header = 1 + (model[0] & 0x7F) + 1;
-      need(header);
-      if (std::memcmp(at(), model.data(), header) != 0)
-        throw Stop{RawlogStop::kCorrupt, std::string("nested ") + what + " header mismatch"};
-      skip(model.size());
-    }
-  };
+  const std::uint8_t* data() const override { return buf.data() + head; }
 
-  // The whole length of the object at head if its class is one the scanner knows; nullopt
-  // otherwise (class name in `name`).
+  // The whole length of the object at head if its class is one the scanner knows
+  // (scanned_classes.cpp); nullopt otherwise (class name in `name`).
   std::optional<std::size_t> scan(std::string& name) {
-    const Calibration& cal = calibration();
-    Cursor c{*this};
+    detail::ObjectCursor c(*this, options);
     const std::uint8_t len = c.u8();
     if (!(len & 0x80)) throw Stop{RawlogStop::kCorrupt, "object header without the MRPT >= 0.5.5 flag"};
     const std::size_t name_len = len & 0x7F;
@@ -218,73 +129,16 @@ struct RawlogReader::Impl {
       if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == ':'))
         throw Stop{RawlogStop::kCorrupt, "bad class name"};
     }
-    c.pos += name_len;
+    c.skip(name_len);
     const std::uint8_t version = c.u8();
     // MRPT 2 names classes with their namespace; older files without it.
     const std::string prefix = "mrpt::obs::";
     const std::string cls = name.compare(0, prefix.size(), prefix) == 0 ? name.substr(prefix.size()) : name;
-    if (cls == "CObservationComment" && version <= 1) {
-      c.string("comment text");
-      c.skip(8);  // timestamp
-      if (version >= 1) c.string("sensorLabel");
-    } else if (cls == "CObservationRawDAQ" && version == 0) {
-      c.string("sensorLabel");
-      c.skip(8 + 8);  // timestamp, sample_rate
-      c.vector(1, "AIN_8bits");
-      c.vector(2, "AIN_16bits");
-      c.vector(4, "AIN_32bits");
-      c.vector(4, "AIN_float");
-      c.vector(8, "AIN_double");
-      c.skip(2 + 1);  // AIN_channel_count, AIN_interleaved
-      c.vector(1, "AOUT_8bits");
-      c.vector(2, "AOUT_16bits");
-      c.vector(4, "AOUT_float");
-      c.vector(8, "AOUT_double");
-      c.vector(1, "DIN");
-      c.vector(1, "DOUT");
-      c.vector(4, "CNTRIN_32bits");
-      c.vector(8, "CNTRIN_double");
-    } else if (cls == "CObservationBearingRange" && version == 3) {
-      c.skip(4 * 4);  // min/max distance, fields of view
-      c.nested(cal.pose3d, "CPose3D");
-      c.skip(8);  // timestamp
-      const bool valid_cov = c.u8() != 0;
-      if (!valid_cov) c.skip(3 * 4);
-      const std::size_t per = 3 * 4 + 4 + (valid_cov ? cal.bearing_cov_bytes : 0);
-      const std::uint32_t n = c.u32();
-      if (static_cast<std::uint64_t>(n) * per > options.max_object_bytes)
-        throw Stop{RawlogStop::kLimit, "sensedData length " + std::to_string(n) + " above max_object_bytes"};
-      c.skip(n * per);
-      c.string("sensorLabel");
-    } else if (cls == "CObservationBeaconRanges" && version == 3) {
-      c.skip(3 * 4);                                       // min/max distance, stdError
-      const std::size_t per = cal.point3d.size() + 4 + 4;  // sensorLocationOnRobot, range, ID
-      const std::uint32_t n = c.u32();
-      if (static_cast<std::uint64_t>(n) * per > options.max_object_bytes)
-        throw Stop{RawlogStop::kLimit, "sensedData length " + std::to_string(n) + " above max_object_bytes"};
-      for (std::uint32_t i = 0; i < n; ++i) {
-        c.nested(cal.point3d, "CPoint3D");
-        c.skip(4 + 4);
-      }
-      c.nested(cal.pose2d, "CPose2D");  // auxEstimatePose
-      c.string("sensorLabel");
-      c.skip(8);  // timestamp
-    } else if (cls == "CObservationOdometry" && version == 2) {
-      c.nested(cal.pose2d, "CPose2D");
-      c.string("sensorLabel");
-      c.skip(8);                                             // timestamp
-      if (c.u8() != 0) c.skip(2 * 4);                        // encoder ticks
-      if (c.u8() != 0) c.skip(cal.odometry_velocity_bytes);  // velocityLocal
-    } else if (cls == "CObservationRobotPose" && version == 1) {
-      c.nested(cal.pose3d_pdf, "CPose3DPDFGaussian");
-      c.string("sensorLabel");
-      c.skip(8);
-      c.nested(cal.pose3d, "CPose3D");
-    } else {
-      return std::nullopt;
-    }
+    const detail::ScannedClass* row = detail::find_scanned_class(cls, version);
+    if (!row) return std::nullopt;
+    row->scan(c, calibration(), version);
     if (c.u8() != kEndFlag) throw Stop{RawlogStop::kCorrupt, "end-of-object flag missing in " + name};
-    return c.pos;
+    return c.pos();
   }
 
   // MRPT reads an unscanned object straight from the buffer and the source.

@@ -13,6 +13,9 @@
 //   sigma_angle_rad^2)), azimuth wrapped to (-pi, pi]. With probability outlier_fraction the
 //   beacon is a gross error instead: v ~ N(0, diag(outlier_sigma_range_m^2,
 //   outlier_sigma_angle_rad^2, outlier_sigma_angle_rad^2)).
+//   Common-mode errors: z = h(q - bs_position_error_m) + (beacon_range_bias_m,
+//   bs_azimuth_bias_rad, bs_elevation_bias_rad) + v: the BS measures from where it stands, with
+//   its array's mounting offsets, while every filter assumes the nominal BS (origin, no bias).
 // Defaults: sigma_angle_rad = 1e-4 gives a lateral 1-sigma of r * sigma_angle = 0.1 m per
 //   cross-range axis at r = 1 km, and sigma_range_m = 0.1 m matches it along the range, so the
 //   beacon-only fix at 1 km is ~0.1 m (1-sigma) on each axis. Gross errors are 200x nominal.
@@ -45,6 +48,12 @@ struct SimulatorConfig {
   double dr_sigma_floor_m = 0.01;
   double dr_sigma_fraction = 0.02;
   double sigma_act_m = 0.0;  // actuation error, used by actuate() only
+  // Common-mode beacon errors, the same for every UAV of a swarm (they all range and bear from
+  // one BS); 0 = none. The filters do not know them.
+  double bs_azimuth_bias_rad = 0.0;    // the BS array mounted rotated: azimuths read this much more
+  double bs_elevation_bias_rad = 0.0;  // ... and elevations
+  double beacon_range_bias_m = 0.0;    // every range reads this much more
+  Eigen::Vector3d bs_position_error_m = Eigen::Vector3d::Zero();  // the BS stands here, not at the origin
 };
 
 // The values each field accepts (validate() and the keys that set them).
@@ -52,7 +61,9 @@ namespace simulator_range {
 inline constexpr common::Range sigma = common::Range::at_least(0.0);  // every *_sigma_* and sigma_act_m
 inline constexpr common::Range beacon_period_epochs = common::Range::closed(1, 1'000'000);
 inline constexpr common::Range outlier_fraction = common::Range::closed(0.0, 1.0);
-inline constexpr common::Range outage_epoch = common::Range::closed(0, 1e9);  // first_epoch, num_epochs
+inline constexpr common::Range outage_epoch = common::Range::closed(0, 1e9);       // first_epoch, num_epochs
+inline constexpr common::Range angle_bias = common::Range::closed(-0.1, 0.1);      // [rad]: a mounting error
+inline constexpr common::Range position_error = common::Range::closed(-1e3, 1e3);  // range bias, BS position [m]
 }  // namespace simulator_range
 
 // Throws common::FieldError naming the first bad field and its value.

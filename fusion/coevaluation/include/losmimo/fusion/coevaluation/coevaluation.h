@@ -26,6 +26,9 @@
 //                   difference is the error's structure (correlated, known covariance), not
 //                   its size. Runs gd_ekf's closed loop for its RMSE when gd_ekf is not listed.
 //                   The experiment's GD as gd_gauss is: run_algorithm, the same seed.
+//   - gd_gauss_shape_matched  the same at gd_ekf's shape error (common lateral offset and
+//                   rotation about boresight removed, the error the channel sees): its expected
+//                   shape RMSE equals gd_ekf's shape_lateral_rmse_m. Not a default row.
 //   - gd_ekf, gd_pf, gd_ekf_ceres   the closed loop (closed_loop.h) with the EKF, the particle
 //                   filter, and the EKF with Ceres CSI refinement; BF fallback on.
 //   - gd_ekf_nofallback             gd_ekf with the BF fallback off.
@@ -122,12 +125,17 @@ inline constexpr experiment::ExtensionMetric kCommonLateral{
     {"common_lateral_m"},
     "m",
     "RMS over epochs of the swarm's common lateral offset of those estimates (placement/swarm_shape.h), which the "
-    "channel barely sees (NaN for rows without estimated positions: truth, gauss, gauss_matched)"};
+    "channel barely sees (the Gaussian rows: the model's expected v sqrt(2 / N), by construction; NaN for truth)"};
 inline constexpr experiment::ExtensionMetric kShapeLateralRmse{
     {"shape_lateral_rmse_m"},
     "m",
     "RMSE over epochs and UAVs of their lateral shape residual (common offset and rotation about boresight "
-    "removed): the error capacity sees (NaN as above)"};
+    "removed): the error capacity sees (the Gaussian rows: v sqrt((2N - 3) / N), by construction; NaN for truth)"};
+inline constexpr experiment::ExtensionMetric kShapeNees{
+    {"shape_nees"},
+    "",
+    "mean over epochs of the shape residual's NEES over its 2N - 3 degrees of freedom (1 when consistent; NaN for "
+    "rows without beliefs: truth and the Gaussian rows)"};
 inline constexpr experiment::ExtensionMetric kNees{
     {"nees"}, "", "average e^T P^-1 e of those estimates (3 when consistent)"};
 inline constexpr experiment::ExtensionMetric kBfFallbackFraction{
@@ -137,10 +145,11 @@ inline constexpr experiment::ExtensionMetric kBeaconLateralRmse{
 inline constexpr experiment::ExtensionMetric kPairedTravelDiff{
     {"paired_travel_diff_m"},
     "m",
-    "gd_gauss_matched only: gd_ekf's dist_to_icn095_m minus its own, same trial and point (NaN when either did "
+    "the matched Gaussian rows only: gd_ekf's dist_to_icn095_m minus its own, same trial and point (NaN when either "
+    "did "
     "not reach ICN 0.95); summarised, the paired mean difference with its 95% CI"};
 inline constexpr experiment::ExtensionMetric kPairedIterationsDiff{
-    {"paired_iterations_diff"}, "iterations", "gd_gauss_matched only: gd_ekf's iterations minus its own"};
+    {"paired_iterations_diff"}, "iterations", "the matched Gaussian rows only: gd_ekf's iterations minus its own"};
 // Their table, in column order.
 const experiment::ExtensionMetrics& coevaluation_metrics();
 

@@ -14,6 +14,9 @@
 //   gauss           the paper's Gaussian localization error, sigma_loc_m = the point's value v
 //   gauss_matched   the Gaussian at the error the same planner's ekf row measured in the same
 //                   trial and point (sigma_loc_m = its loc_lateral_rmse_m / sqrt(2))
+//   gauss_shape_matched  the same at the ekf row's shape error: sigma_loc_m = its
+//                   shape_lateral_rmse_m / sqrt((2N - 3) / N), the model's expected shape RMSE
+//                   per unit sigma (placement/swarm_shape.h)
 //   ekf, pf         every UAV's own beacon + dead-reckoning filter (fusion/estimation_step.h);
 //                   with gd the closed loop (fusion/closed_loop.h, BF fallback on), with another
 //                   iterative planner that planner on the filters' beliefs, one epoch per

@@ -6,10 +6,9 @@
 // corrupted fields. So:
 //   - losmimo's own logs (object 0 is the CONFIG comment, kRawlogMagic) are read in this process:
 //     before MRPT parses an object, a scanner walks its bytes with the known layout of the
-//     classes losmimo writes (CObservationComment, CObservationRawDAQ, CObservationBearingRange,
-//     CObservationRobotPose, CObservationOdometry, CObservationBeaconRanges; nested CPose3D /
-//     CPose3DPDFGaussian / CPose2D / CPoint3D are fixed-size and calibrated at start-up from
-//     MRPT itself), checks every length against the limits below, and buffers the
+//     classes losmimo writes (scanned_class_table(): one row per class and version; nested
+//     CPose3D / CPose3DPDFGaussian / CPose2D / CPoint3D are fixed-size and calibrated at
+//     start-up from MRPT itself), checks every length against the limits below, and buffers the
 //     whole object; MRPT then parses exactly those bytes from memory. Any other class in such a
 //     log stops the read (limit): losmimo never writes one.
 //   - other logs ("foreign") are parsed in a bounded child process (sandbox.h, the default
@@ -103,6 +102,16 @@ class RawlogReader {
   explicit RawlogReader(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
+
+// The classes whose layout the scanner knows, with the serialization versions it walks
+// (inclusive): what a losmimo rawlog may hold, and what strict mode (ForeignObjects::kStop)
+// reads from any log.
+struct ScannedClassInfo {
+  std::string name;  // with its namespace, as MRPT 2 writes it: "mrpt::obs::CObservationComment"
+  int min_version = 0;
+  int max_version = 0;
+};
+std::vector<ScannedClassInfo> scanned_class_table();
 
 // Reads everything (for tests and the fuzz target): the objects and the final status. Never
 // throws on any input; with ForeignObjects::kSandbox or kStop no allocation in this process
