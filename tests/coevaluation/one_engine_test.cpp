@@ -37,6 +37,16 @@ experiment::ExperimentSettings settings(const std::string& values, const std::ve
   return experiment::load_experiment_settings(cfg, experiment_extensions());
 }
 
+// The experiment's GD of the sweep's first point and this trial (its start and seed) at
+// Gaussian localization error sigma_m.
+placement::RunResult experiments_gd(const experiment::ExperimentSettings& s, int trial, double sigma_m) {
+  placement::PlacementSettings p = s.placement;
+  p.errors.sigma_loc_m = sigma_m;
+  return experiment::run_algorithm(s, p, experiment::Algorithm::kGd, trial,
+                                   experiment::trial_start_positions_m(s, trial),
+                                   experiment::trial_seed(s, kSweepBeaconNoise, 0, trial), s.placement.run);
+}
+
 const experiment::TrialRecord& record_of(const std::vector<experiment::TrialRecord>& records, const std::string& a) {
   for (const experiment::TrialRecord& r : records) {
     if (r.algorithm == a) return r;
@@ -94,12 +104,7 @@ TEST(OneEngine, GdGaussShapeMatched_IsTheExperimentsGdAtTheSigmaWhoseExpectedSha
     ASSERT_GT(sigma_m, 1e-3);
     // (the shape is a part of the lateral error: the matched sigma is below the lateral match)
     EXPECT_LT(ekf.extension.at(kShapeLateralRmse), ekf.extension.at(kLocLateralRmse));
-    placement::PlacementSettings p = s.placement;
-    p.errors.sigma_loc_m = sigma_m;
-    const Eigen::Matrix3Xd start = experiment::trial_start_positions_m(s, trial);
-    const std::uint64_t seed = experiment::trial_seed(s, kSweepBeaconNoise, 0, trial);
-    const placement::RunResult gd =
-        experiment::run_algorithm(s, p, experiment::Algorithm::kGd, trial, start, seed, s.placement.run);
+    const placement::RunResult gd = experiments_gd(s, trial, sigma_m);
     // THEN: the row is that run, bit for bit, and reports the model's split at that sigma.
     EXPECT_EQ(matched.iterations, gd.iterations) << "trial " << trial;
     EXPECT_EQ(matched.final_m, gd.final_m) << "trial " << trial;
@@ -123,21 +128,14 @@ TEST(OneEngine, GdGaussMatched_IsTheExperimentsGdAtGdEkfsMeasuredLateralError_Bi
     // 2-D lateral RMSE is gd_ekf's measured one.
     const double sigma_m = ekf.extension.at(kLocLateralRmse) / std::sqrt(2.0);
     ASSERT_GT(sigma_m, 1e-3);
-    placement::PlacementSettings p = s.placement;
-    p.errors.sigma_loc_m = sigma_m;
-    const Eigen::Matrix3Xd start = experiment::trial_start_positions_m(s, trial);
-    const std::uint64_t seed = experiment::trial_seed(s, kSweepBeaconNoise, 0, trial);
-    const placement::RunResult gd =
-        experiment::run_algorithm(s, p, experiment::Algorithm::kGd, trial, start, seed, s.placement.run);
+    const placement::RunResult gd = experiments_gd(s, trial, sigma_m);
     // THEN: the matched row is that run, bit for bit, and reports that sigma.
     EXPECT_EQ(matched.iterations, gd.iterations) << "trial " << trial;
     EXPECT_EQ(matched.final_m, gd.final_m) << "trial " << trial;
     EXPECT_EQ(matched.extension.at(kLocLateralRmse), std::sqrt(2.0) * sigma_m);
     EXPECT_EQ(matched.extension.at(kPairedIterationsDiff), static_cast<double>(ekf.iterations - gd.iterations));
     // THEN (negative control): the same GD without the error places differently.
-    p.errors.sigma_loc_m = 0.0;
-    const placement::RunResult exact =
-        experiment::run_algorithm(s, p, experiment::Algorithm::kGd, trial, start, seed, s.placement.run);
+    const placement::RunResult exact = experiments_gd(s, trial, 0.0);
     EXPECT_NE(exact.final_m, gd.final_m) << "trial " << trial;
   }
 }

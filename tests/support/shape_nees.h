@@ -29,8 +29,7 @@ inline double shape_nees_by_pseudo_inverse(const Eigen::Matrix3Xd& truth_m, cons
     s.block<2, 2>(2 * k, 2 * k) = lateral_cov_m2[static_cast<std::size_t>(k)];
     e.segment<2>(2 * k) = (estimate_m.col(k) - truth_m.col(k)).tail<2>();
   }
-  const Eigen::MatrixXd p =
-      Eigen::MatrixXd::Identity(2 * n, 2 * n) - a * (a.transpose() * a).inverse() * a.transpose();
+  const Eigen::MatrixXd p = Eigen::MatrixXd::Identity(2 * n, 2 * n) - a * (a.transpose() * a).inverse() * a.transpose();
   const Eigen::MatrixXd c = p * s * p;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (c + c.transpose()));
   const double top = eig.eigenvalues().maxCoeff();
