@@ -324,7 +324,7 @@ ClosedLoopStats ClosedLoopPlanner::stats() const {
 ClosedLoopRun run_closed_loop(const placement::PlacementSettings& settings, const Eigen::Matrix3Xd& start_m,
                               const ClosedLoopConfig& config, std::uint64_t seed, ClosedLoopObserver* observer) {
   placement::ErrorModel errors = settings.errors;
-  errors.sigma_loc_m = 0.0;                                // the beliefs replace the Gaussian localization model
+  errors.clear_localization();                             // the beliefs replace the Gaussian localization model
   const placement::ChannelModel model(settings.scenario);  // the Swarm keeps a pointer to it
   placement::Swarm swarm(model, start_m, errors, derive_seed(seed, Stream::kSwarm, 0));
   ClosedLoopPlanner planner(settings.scenario, settings.gd, settings.bf, config, seed);

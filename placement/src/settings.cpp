@@ -65,6 +65,11 @@ std::vector<common::Key<ErrorModel>> error_keys() {
              "rms_3d"),
       choice("errors", "loc_error", &ErrorModel::loc_error, &loc_error_from_string, "fresh | fixed_per_uav",
              "localization error drawn at every estimate, or once per UAV and run (a bias)", "fixed_per_uav"),
+      K::real("errors", "sigma_loc_common_m", &ErrorModel::sigma_loc_common_m, error_range::sigma_loc_common_m,
+              "common-mode localization error: 1-sigma per axis of one offset per run that every UAV's estimates "
+              "share (a misaligned or mis-surveyed BS) [m]",
+              "0.5")
+          .unless_default(),
   };
 }
 

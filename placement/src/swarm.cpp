@@ -14,6 +14,7 @@ namespace losmimo::placement {
 void validate(const ErrorModel& errors) {
   common::require_field_in(error_range::sigma_loc_m, errors.sigma_loc_m, "errors", "sigma_loc_m");
   common::require_field_in(error_range::sigma_act_m, errors.sigma_act_m, "errors", "sigma_act_m");
+  common::require_field_in(error_range::sigma_loc_common_m, errors.sigma_loc_common_m, "errors", "sigma_loc_common_m");
 }
 
 std::string to_string(SigmaConvention convention) {
@@ -59,6 +60,12 @@ Swarm::Swarm(const ChannelModel& model, const Eigen::Matrix3Xd& start_m, const E
       for (int i = 0; i < 3; ++i) loc_bias_m_(i, m) = normal(bias_rng) * axis_sigma_loc_m_;
     }
   }
+  if (errors.sigma_loc_common_m > 0.0) {
+    // Its own generator too: without a common part nothing else is drawn differently.
+    std::mt19937_64 common_rng(common::derive_seed(seed, {2}));
+    std::normal_distribution<double> normal(0.0, 1.0);
+    for (int i = 0; i < 3; ++i) loc_common_m_(i) = normal(common_rng) * errors.axis_sigma_loc_common_m();
+  }
 }
 
 void Swarm::refill_normals() {
@@ -71,8 +78,8 @@ void Swarm::refill_normals() {
 Eigen::Vector3d Swarm::estimate_position(int m) {
   ++position_estimates_;
   if (estimator_) return estimator_(m, q_m_.col(m));
-  if (loc_bias_m_.size() > 0) return q_m_.col(m) + loc_bias_m_.col(m);
-  return q_m_.col(m) + gaussian(axis_sigma_loc_m_);
+  if (loc_bias_m_.size() > 0) return q_m_.col(m) + loc_bias_m_.col(m) + loc_common_m_;
+  return q_m_.col(m) + gaussian(axis_sigma_loc_m_) + loc_common_m_;
 }
 
 void Swarm::count_exact_probe(int m, const Eigen::Vector3d& r_m) {

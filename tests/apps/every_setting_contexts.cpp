@@ -221,6 +221,14 @@ const std::vector<Context>& contexts() {
       experiment_context(coevaluation::kSweepBeaconOutage, {{"coevaluation.outage_values", "1"},
                                                             {"coevaluation.outage_first_epoch", "2"},
                                                             {"errors.sigma_act_m", "0.05"}}),
+      // The misalignment sweep's default rows (the Gaussian model and its matched forms, gd_ekf)
+      // at one misalignment of ~1 mrad.
+      experiment_context(coevaluation::kSweepMisalignment, {{"scenario.bs_rows", "2"},
+                                                            {"scenario.bs_cols", "2"},
+                                                            {"scenario.bs_spacing_m", "1"},
+                                                            {"bf.stall_window", "3"},
+                                                            {"coevaluation.misalignment_values_rad", "0.0009765625"},
+                                                            {"errors.sigma_act_m", "0.05"}}),
       eval_context(),
       record_context(),
   };

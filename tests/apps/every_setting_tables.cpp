@@ -96,6 +96,14 @@ const std::vector<Condition> kConditions = {
      "bf.stall_min_decrease",
      {{"coevaluation.algorithms", "gd_gauss, gd_ekf, gd_pf, bf"}},
      "the regimes' target ICN 1 is refused with centralized"},
+    // The misalignment sweep's BF row reaches its stall test's threshold only in a long run.
+    {coevaluation::kSweepMisalignment,
+     "bf.stall_min_decrease",
+     {{"coevaluation.misalignment_algorithms", "bf"},
+      {"placement.target_icn", "1"},
+      {"placement.max_iterations", "1000"},
+      {"bf.stall_window", "1"}},
+     "BF's stall test ends a run that does not converge"},
     // The closed loop's filter and refinement options act with that filter or refinement.
     {coevaluation::kSweepBeaconOutage,
      "closed_loop.num_particles",
@@ -149,6 +157,7 @@ const std::vector<Value> kValues = {
     {coevaluation::kSweepBeaconNoise, "experiment.sweeps", "beacon_noise_m, sigma_act_m"},
     {coevaluation::kSweepBeaconOutage, "experiment.sweeps", "beacon_outage, sigma_act_m"},
     {"beacon_noise_m_without_pf_ceres_ura", "experiment.sweeps", "beacon_noise_m, sigma_act_m"},
+    {coevaluation::kSweepMisalignment, "experiment.sweeps", "bs_misalignment_rad, sigma_act_m"},
     // The example drops gd_pf, whose particle count the tiny configuration sets.
     {coevaluation::kSweepBeaconNoise, "coevaluation.algorithms", "gd_ekf, gd_pf, bf"},
 };

@@ -8,6 +8,8 @@
 
 #include <Eigen/Cholesky>
 
+#include "support/shape_nees.h"
+
 namespace losmimo::rawlog::golden {
 
 const std::vector<std::string>& variant_keys() {
@@ -20,6 +22,8 @@ const std::vector<std::string>& variant_keys() {
                                                 "nees_epoch_min_fraction",
                                                 "nees_mean_low",
                                                 "nees_mean_high",
+                                                "shape_nees_mean_low",
+                                                "shape_nees_mean_high",
                                                 "range_rmse_min_m",
                                                 "rmse_max_m",
                                                 "beacons",
@@ -123,6 +127,24 @@ ReplayFigures figures_of(const MissionLog& log, const ReplayResult& r) {
   }
   for (int k = 0; k < f.epochs; ++k)
     if (f.epoch_nees_samples[k] > 0) f.epoch_average_nees[k] /= f.epoch_nees_samples[k];
+  // The shape NEES per degree of freedom of each epoch with every UAV's truth, by the
+  // pseudo-inverse (support/shape_nees.h), not by the library's QR form.
+  std::vector<Eigen::Matrix3Xd> truth(f.epochs, Eigen::Matrix3Xd::Zero(3, f.uavs)), mean = truth;
+  std::vector<std::vector<Eigen::Matrix2d>> cov(f.epochs, std::vector<Eigen::Matrix2d>(f.uavs));
+  for (const ReplayUavEpoch& e : r.estimates) {
+    if (!e.has_truth || e.epoch >= f.epochs || e.uav >= f.uavs) continue;
+    truth[e.epoch].col(e.uav) = e.truth_m;
+    mean[e.epoch].col(e.uav) = e.belief.mean_m;
+    cov[e.epoch][e.uav] = e.belief.cov_m2.bottomRightCorner<2, 2>();
+  }
+  double shape_sum = 0.0;
+  int shape_n = 0;
+  for (int k = 0; k < f.epochs; ++k) {
+    if (f.epoch_nees_samples[k] != f.uavs) continue;
+    shape_sum += test_support::shape_nees_by_pseudo_inverse(truth[k], mean[k], cov[k]);
+    ++shape_n;
+  }
+  f.shape_nees = shape_n > 0 ? shape_sum / shape_n : std::nan("");
   f.average_nees = nees_n > 0 ? nees_sum / nees_n : std::nan("");
   f.range_rmse_m = f.beacons > 0 ? std::sqrt(x_sq / f.beacons) : std::nan("");
   f.rmse_m = f.beacons > 0 ? std::sqrt(sq / f.beacons) : std::nan("");
@@ -230,6 +252,8 @@ std::vector<std::string> violations(const Bounds& bounds, const ReplayFigures& f
   check_epoch_nees(c, f);
   c.at_least("nees_mean_low", f.average_nees, "average NEES");
   c.at_most("nees_mean_high", f.average_nees, "average NEES");
+  c.at_least("shape_nees_mean_low", f.shape_nees, "average shape NEES per degree of freedom");
+  c.at_most("shape_nees_mean_high", f.shape_nees, "average shape NEES per degree of freedom");
   c.at_least("range_rmse_min_m", f.range_rmse_m, "line-of-sight RMSE over the beacon epochs");
   c.at_most("rmse_max_m", f.rmse_m, "3-D RMSE over the beacon epochs");
   c.exactly("beacons", f.beacons, "beacons consumed");

@@ -16,6 +16,8 @@
 //   nees_epoch_low, _high     band of each epoch's average NEES over the swarm's UAVs
 //   nees_epoch_min_fraction   fraction of the epochs whose average must be inside that band
 //   nees_mean_low, _high      band of the average NEES over every UAV-epoch
+//   shape_nees_mean_low, _high  band of the swarm shape's NEES per degree of freedom
+//                             (placement/swarm_shape.h), averaged over the epochs with every truth
 //   range_rmse_min_m          RMSE along the line of sight (x) over the UAV-epochs with a beacon
 //   rmse_max_m                3-D RMSE over the UAV-epochs with a beacon
 //   beacons                   beacons the estimator consumed, exactly
@@ -64,6 +66,7 @@ struct ReplayFigures {
   std::vector<double> epoch_average_nees;  // per epoch, over the UAVs with truth
   std::vector<int> epoch_nees_samples;
   double average_nees = 0.0;  // over every UAV-epoch with truth
+  double shape_nees = 0.0;    // shape NEES / dof, mean over the epochs with every UAV's truth
   double range_rmse_m = 0.0;  // x error, UAV-epochs with a beacon
   double rmse_m = 0.0;        // 3-D, UAV-epochs with a beacon
   int beacons = 0;

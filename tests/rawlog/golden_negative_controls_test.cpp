@@ -66,6 +66,8 @@ TEST(GoldenInvariants, FilterToldHalfTheBeaconNoise_IsAViolation) {
   };
   EXPECT_TRUE(names("nees_mean_high")) << joined(v);
   EXPECT_TRUE(names("nees_epoch_min_fraction")) << joined(v);
+  // AND: so does the swarm shape's NEES, computed apart (the shape residual alone).
+  EXPECT_TRUE(names("shape_nees_mean_high")) << joined(v);
 }
 
 TEST(GoldenInvariants, Reader_NamesAKeyWithoutReasonAndAnUnknownKey) {

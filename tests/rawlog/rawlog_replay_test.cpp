@@ -125,7 +125,33 @@ TEST(RawlogReplay, RecordedEstimators_ReproduceTheLoggedBeliefsBitwise) {
     EXPECT_NEAR(r.rmse_m, rec.run.stats.rmse_m, 1e-12);
     EXPECT_NEAR(r.filter_rmse_m, rec.run.stats.filter_rmse_m, 1e-12);
     EXPECT_NEAR(r.average_nees, rec.run.stats.average_nees, 1e-9 * rec.run.stats.average_nees);
+    // AND: so is the swarm-shape split, computed there online and here from the log.
+    EXPECT_NEAR(r.common_lateral_rms_m, rec.run.stats.common_lateral_rms_m, 1e-12) << filter;
+    EXPECT_NEAR(r.shape_lateral_rmse_m, rec.run.stats.shape_lateral_rmse_m, 1e-12) << filter;
+    EXPECT_NEAR(r.shape_nees_per_dof, rec.run.stats.shape_nees_per_dof, 1e-9 * rec.run.stats.shape_nees_per_dof)
+        << filter;
   }
+}
+
+TEST(RawlogReplay, BsAzimuthMisalignment_ShowsAsTheCommonOffsetNotAsShape) {
+  // GIVEN: the same mission recorded with an aligned BS array and with one turned by 1 mrad in
+  // azimuth: every beacon bearing is off by 1 mrad, which moves every UAV's fix by R x 1 mrad
+  // the same way (R = the swarm's range).
+  const double bias_rad = 0.0009765625;  // ~1 mrad, exact in the INI text
+  const MissionConfig aligned = small_mission("ekf", false);
+  const double range_m = aligned.placement.scenario.range_m();
+  const std::string a_path = temp_path("aligned.rawlog"), b_path = temp_path("misaligned.rawlog");
+  record_mission(aligned, {a_path, 6, {}});
+  record_mission(small_mission("ekf", false, "bs_azimuth_bias_rad = 0.0009765625\n"), {b_path, 6, {}});
+  // WHEN: both are replayed.
+  const ReplayResult a = replay_mission(load_log(a_path), {});
+  const ReplayResult b = replay_mission(load_log(b_path), {});
+  // THEN: the misaligned log's common lateral offset is R x bias (to the aligned one's own
+  // common error and second order), and its shape error stays the aligned one's size.
+  EXPECT_NEAR(b.common_lateral_rms_m, range_m * bias_rad, 0.1 * range_m * bias_rad + a.common_lateral_rms_m);
+  EXPECT_GT(b.lateral_rmse_m, 5.0 * a.lateral_rmse_m);
+  EXPECT_LT(b.shape_lateral_rmse_m, 0.2 * b.common_lateral_rms_m);
+  EXPECT_LT(b.shape_lateral_rmse_m, 3.0 * a.shape_lateral_rmse_m + 0.01);
 }
 
 TEST(RawlogReplay, IcnAlongTheTrajectory_EqualsTheRunsOwnTrace) {

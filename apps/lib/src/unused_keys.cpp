@@ -22,13 +22,14 @@ const std::string kCsiSnr = "csi_snr_db";
 const std::string kBsAntennas = "bs_antennas";
 const std::string kBeaconNoise = "beacon_noise_m";
 const std::string kBeaconOutage = "beacon_outage";
+const std::string kMisalignment = "bs_misalignment_rad";
 const std::string kNumUavs = "num_uavs";
 
 // The sweeps other than `keep`.
 std::vector<std::string> sweeps_but(const std::vector<std::string>& keep) {
   std::vector<std::string> out;
   for (const std::string& s :
-       {kSigmaLoc, kSigmaAct, kRicianK, kCsiSnr, kBsAntennas, kBeaconNoise, kBeaconOutage, kNumUavs}) {
+       {kSigmaLoc, kSigmaAct, kRicianK, kCsiSnr, kBsAntennas, kBeaconNoise, kBeaconOutage, kMisalignment, kNumUavs}) {
     if (std::find(keep.begin(), keep.end(), s) == keep.end()) out.push_back(s);
   }
   return out;
@@ -104,24 +105,32 @@ const std::vector<UnusedKeys>& unused_keys() {
          {kEval},
          "it evaluates given positions: no placement runs"},
         {{"channel.coherence_iterations", "channel.fading_eval_draws"},
-         {kEval, kRecord, kBeaconNoise, kBeaconOutage},
+         {kEval, kRecord, kBeaconNoise, kBeaconOutage, kMisalignment},
          "it models the LoS channel with perfect CSI (no fading to draw)"},
         {{"experiment.*"}, {kEval, kRecord}, "no experiment runs (an experiment's --config file is accepted as it is)"},
         {{"coevaluation.*"},
-         plus({kRecord}, sweeps_but({kBeaconNoise, kBeaconOutage})),
-         "read by the co-evaluation sweeps beacon_noise_m and beacon_outage only"},
-        {{"coevaluation.beacon_noise_values_m", "coevaluation.algorithms", "coevaluation.ura_variant"},
-         {kBeaconOutage},
+         plus({kRecord}, sweeps_but({kBeaconNoise, kBeaconOutage, kMisalignment})),
+         "read by the co-evaluation sweeps beacon_noise_m, beacon_outage and bs_misalignment_rad only"},
+        {{"coevaluation.beacon_noise_values_m", "coevaluation.algorithms"},
+         {kBeaconOutage, kMisalignment},
          "read by the beacon_noise_m sweep only"},
+        {{"coevaluation.ura_variant"}, {kBeaconOutage}, "the outage sweep runs gd's closed loop only (no URA)"},
         {{"coevaluation.outage_values", "coevaluation.outage_algorithms", "coevaluation.outage_first_epoch",
           "coevaluation.outage_epochs", "coevaluation.outage_degraded_after_epochs",
           "coevaluation.outage_beacon_noise_m"},
-         {kBeaconNoise},
+         {kBeaconNoise, kMisalignment},
          "read by the beacon_outage sweep only"},
+        {{"coevaluation.misalignment_values_rad", "coevaluation.misalignment_algorithms",
+          "coevaluation.misalignment_beacon_noise_m"},
+         {kBeaconNoise, kBeaconOutage},
+         "read by the bs_misalignment_rad sweep only"},
         // The co-evaluation's shared [closed_loop] keys (the experiment knows no other).
         {{"closed_loop.*"},
-         sweeps_but({kBeaconNoise, kBeaconOutage}),
+         sweeps_but({kBeaconNoise, kBeaconOutage, kMisalignment}),
          "the closed loop runs in losmimo-record and the co-evaluation sweeps only"},
+        {{"closed_loop.bs_azimuth_bias_rad"},
+         {kMisalignment},
+         "the sweep sets it (coevaluation.misalignment_values_rad)"},
         // The sweep points of each sweep, and the keys a sweep replaces by its point.
         {{"experiment.sigma_loc_values_m"}, sweeps_but({kSigmaLoc}), "the sigma_loc_m sweep's points"},
         {{"experiment.sigma_act_values_m"}, sweeps_but({kSigmaAct}), "the sigma_act_m sweep's points"},
@@ -146,17 +155,25 @@ const std::vector<UnusedKeys>& unused_keys() {
          {kBsAntennas},
          "the sweep sets the array (experiment.bs_antennas_values)"},
         {{"errors.sigma_loc_m"},
-         {kBeaconNoise, kBeaconOutage, kRecord},
-         "the position estimates are the filters' (gd_gauss's sigma_loc_m is the beacon_noise_m point)"},
+         {kBeaconNoise, kBeaconOutage, kMisalignment, kRecord},
+         "the position estimates are the filters' (gd_gauss's sigma_loc_m is the point's beacon noise)"},
+        {{"errors.sigma_loc_common_m"},
+         {kBeaconOutage, kRecord},
+         "the position estimates are the filters', not a Gaussian localization error"},
+        {{"errors.sigma_loc_common_m"},
+         {"no gauss estimator in [coevaluation] algorithms",
+          "no gauss estimator in [coevaluation] "
+          "misalignment_algorithms"},
+         "in the co-evaluation only the gauss estimator (gd_gauss) reads it; the matched rows set their own"},
         {{"errors.loc_error"},
          {kBeaconOutage, kRecord},
          "the position estimates are the filters', not a Gaussian localization error"},
         // losmimo-experiment's keys of the built-in sweeps.
         {{"experiment.algorithms"},
-         {kBeaconNoise, kBeaconOutage},
-         "the co-evaluation sweeps run [coevaluation] algorithms and outage_algorithms"},
+         {kBeaconNoise, kBeaconOutage, kMisalignment},
+         "the co-evaluation sweeps run [coevaluation] algorithms, outage_algorithms and misalignment_algorithms"},
         {{"experiment.fig1_trials", "experiment.paths", "experiment.readings", "experiment.reading_trials"},
-         {kRicianK, kCsiSnr, kBsAntennas, kBeaconNoise, kBeaconOutage, kNumUavs},
+         {kRicianK, kCsiSnr, kBsAntennas, kBeaconNoise, kBeaconOutage, kMisalignment, kNumUavs},
          "Fig 1's traces, the path figure and the readings belong to the built-in sweeps sigma_loc_m and sigma_act_m"},
         // Parts of a run that its other settings switch off.
         {{"placement.milestone_distance_includes_probes"}, {no_planner_condition("bf")}, "only BF flies probes"},
@@ -170,18 +187,22 @@ const std::vector<UnusedKeys>& unused_keys() {
          "the Ceres refinement's settings (set [closed_loop] refine = true)"},
         // The co-evaluation's algorithms that some keys serve alone (coevaluation/extensions.cpp).
         {{"closed_loop.num_particles"},
-         {"no pf estimator in [coevaluation] algorithms", "no pf estimator in [coevaluation] outage_algorithms"},
+         {"no pf estimator in [coevaluation] algorithms", "no pf estimator in [coevaluation] outage_algorithms",
+          "no pf estimator in [coevaluation] misalignment_algorithms"},
          "the particle filter's size: only the pf estimator (gd_pf) runs one"},
         {{"closed_loop.window_epochs", "closed_loop.use_csi"},
          {"no ekf_ceres estimator in [coevaluation] algorithms",
-          "no ekf_ceres estimator in [coevaluation] outage_algorithms"},
+          "no ekf_ceres estimator in [coevaluation] outage_algorithms",
+          "no ekf_ceres estimator in [coevaluation] misalignment_algorithms"},
          "the refinement's settings: only the ekf_ceres estimator (gd_ekf_ceres) refines"},
         {{"ura.*"},
-         {"no URA planner in [coevaluation] algorithms"},
+         {"no URA planner in [coevaluation] algorithms", "no URA planner in [coevaluation] misalignment_algorithms"},
          "the URA's settings: only a URA row (ura_ekf) runs one"},
-        {{"coevaluation.ura_variant"}, {"no ura_ekf in [coevaluation] algorithms"}, "the URA variant of ura_ekf"},
+        {{"coevaluation.ura_variant"},
+         {"no ura_ekf in [coevaluation] algorithms", "no ura_ekf in [coevaluation] misalignment_algorithms"},
+         "the URA variant of ura_ekf"},
         {{"cap.*"},
-         {"no cap planner in [coevaluation] algorithms"},
+         {"no cap planner in [coevaluation] algorithms", "no cap planner in [coevaluation] misalignment_algorithms"},
          "the capacity planner's settings: only a cap row (cap_ekf) runs it"},
         {{"cap.*"}, {kRecord, kBeaconOutage}, "no capacity planner runs (the closed loop plans with GD and BF)"},
         // The closed loop (losmimo-record, and every beacon_outage row) plans with GD, and BF for a

@@ -91,30 +91,38 @@ std::vector<int> outage_uavs(int num_lost, int num_uavs) {
   return uavs;
 }
 
-std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::ExperimentSettings& s,
-                                                            const CoevaluationSettings& c, int point, int trial) {
-  const experiment::SweepPoints* sweep = s.sweep(kSweepBeaconNoise);
-  if (!sweep) throw std::invalid_argument("run_beacon_noise_trial: the settings have no beacon_noise_m sweep");
+std::vector<experiment::TrialRecord> detail::run_rows(const experiment::ExperimentSettings& s,
+                                                      const CoevaluationSettings& c, const std::vector<CoevalRow>& rows,
+                                                      const std::string& sweep, int point, int trial,
+                                                      double beacon_noise_m) {
   const placement::ChannelModel model(s.placement.scenario);  // the Swarms keep a pointer to it
   std::vector<CoevalRow> rows_done;
   std::vector<experiment::TrialRecord> records;
   const CoevalTrial t{s,
                       c,
-                      kSweepBeaconNoise,
+                      sweep,
                       point,
                       trial,
-                      sweep->values.at(static_cast<std::size_t>(point)),
+                      beacon_noise_m,
                       experiment::trial_start_positions_m(s, trial),
-                      experiment::trial_seed(s, kSweepBeaconNoise, point, trial),
+                      experiment::trial_seed(s, sweep, point, trial),
                       model,
                       rows_done,
                       records};
-  for (const CoevalRow& row : c.algorithms) {
+  for (const CoevalRow& row : rows) {
     experiment::TrialRecord r = estimator_entry(row.estimator).run(row, placement::planner_entry(row.planner), t);
     rows_done.push_back(row);
     records.push_back(std::move(r));
   }
   return records;
+}
+
+std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::ExperimentSettings& s,
+                                                            const CoevaluationSettings& c, int point, int trial) {
+  const experiment::SweepPoints* sweep = s.sweep(kSweepBeaconNoise);
+  if (!sweep) throw std::invalid_argument("run_beacon_noise_trial: the settings have no beacon_noise_m sweep");
+  return detail::run_rows(s, c, c.algorithms, kSweepBeaconNoise, point, trial,
+                          sweep->values.at(static_cast<std::size_t>(point)));
 }
 
 std::vector<experiment::TrialRecord> run_beacon_noise_trial(const experiment::ExperimentSettings& s, int point,
@@ -144,17 +152,10 @@ std::vector<experiment::TrialRecord> run_outage_trial(const experiment::Experime
   return run_outage_trial(s, load_coevaluation_settings(s), point, trial);
 }
 
-namespace {
-// `run` bound to the run's settings, its co-evaluation settings parsed once.
-template <typename Run>
-experiment::ExperimentExtension::TrialFn bound(const experiment::ExperimentSettings& s, Run run) {
+experiment::ExperimentExtension::TrialFn detail::bound(const experiment::ExperimentSettings& s, TrialOf run) {
   auto c = std::make_shared<const CoevaluationSettings>(load_coevaluation_settings(s));
   return [&s, c, run](int point, int trial) { return run(s, *c, point, trial); };
 }
-
-using TrialOf = std::vector<experiment::TrialRecord> (*)(const experiment::ExperimentSettings&,
-                                                         const CoevaluationSettings&, int, int);
-}  // namespace
 
 experiment::ExperimentExtension beacon_noise_extension() {
   register_coevaluation_planners();
@@ -165,9 +166,7 @@ experiment::ExperimentExtension beacon_noise_extension() {
   e.load_values = [](const experiment::ExperimentSettings& s) {
     return load_coevaluation_settings(s).beacon_noise_values_m;
   };
-  e.bind = [](const experiment::ExperimentSettings& s) {
-    return bound(s, static_cast<TrialOf>(&run_beacon_noise_trial));
-  };
+  e.bind = [](const experiment::ExperimentSettings& s) { return detail::bound(s, &run_beacon_noise_trial); };
   e.figures = write_beacon_noise_figures;
   e.report_section = beacon_noise_report_section;
   return e;
@@ -183,7 +182,7 @@ experiment::ExperimentExtension beacon_outage_extension() {
     const std::vector<int> k = load_coevaluation_settings(s).outage_values;
     return std::vector<double>(k.begin(), k.end());
   };
-  e.bind = [](const experiment::ExperimentSettings& s) { return bound(s, static_cast<TrialOf>(&run_outage_trial)); };
+  e.bind = [](const experiment::ExperimentSettings& s) { return detail::bound(s, &run_outage_trial); };
   e.figures = write_outage_figures;
   e.report_section = outage_report_section;
   return e;

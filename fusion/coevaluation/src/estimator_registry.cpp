@@ -73,6 +73,7 @@ const std::vector<RowAlias>& row_aliases() {
   static const std::vector<RowAlias> aliases = {{"gd_gauss", "gd", "gauss"},
                                                 {"gd_gauss_matched", "gd", "gauss_matched"},
                                                 {"gd_gauss_shape_matched", "gd", "gauss_shape_matched"},
+                                                {"gd_gauss_split_matched", "gd", "gauss_split_matched"},
                                                 {"gd_ekf", "gd", "ekf"},
                                                 {"gd_ekf_nofallback", "gd", "ekf_nofallback"},
                                                 {"gd_pf", "gd", "pf"},

@@ -1,6 +1,7 @@
 // The builtin estimators of the co-evaluation (estimator_registry.h): truth, the Gaussian model,
 // the matched Gaussian and the filter family (ekf, pf, ekf_nofallback, ekf_ceres).
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -30,12 +31,23 @@ using detail::not_applicable;
 constexpr std::uint64_t kSourceSimulatorStream = 0x55524153;  // "URAS"
 constexpr std::uint64_t kSourceFilterStream = 0x55524146;     // "URAF"
 
-// The metrics of a run that placed from the Gaussian model's positions, sigma_loc_m per axis.
-void set_gaussian_metrics(experiment::TrialRecord& r, double sigma_loc_m, int num_uavs) {
-  r.extension.set(kLocRmse, std::sqrt(3.0) * sigma_loc_m);
-  r.extension.set(kLocLateralRmse, std::sqrt(2.0) * sigma_loc_m);
-  const placement::ExpectedSwarmSplit split = placement::expected_split_of_independent_errors(num_uavs, sigma_loc_m);
-  r.extension.set(kCommonLateral, split.common_lateral_rms_m);
+// The Gaussian model's two parts, 1-sigma per axis [m]: independent per UAV and estimate
+// (sigma_loc_m) and common to the swarm for the run (sigma_loc_common_m).
+struct GaussianSigmas {
+  double independent_m = 0.0;
+  double common_m = 0.0;
+};
+
+// The metrics of a run that placed from the Gaussian model's positions: their expected values.
+// The common part adds to the common offset only (it has no shape), the independent part to both.
+// Without a common part every value is the independent one's, to the bit (std::hypot(a, 0) = |a|).
+void set_gaussian_metrics(experiment::TrialRecord& r, GaussianSigmas g, int num_uavs) {
+  const double sigma = std::hypot(g.independent_m, g.common_m);
+  r.extension.set(kLocRmse, std::sqrt(3.0) * sigma);
+  r.extension.set(kLocLateralRmse, std::sqrt(2.0) * sigma);
+  const placement::ExpectedSwarmSplit split =
+      placement::expected_split_of_independent_errors(num_uavs, g.independent_m);
+  r.extension.set(kCommonLateral, std::hypot(split.common_lateral_rms_m, std::sqrt(2.0) * g.common_m));
   r.extension.set(kShapeLateralRmse, split.shape_lateral_rmse_m);
   not_applicable(r, {kShapeNees, kNees, kBfFallbackFraction, kBeaconLateralRmse});
 }
@@ -130,7 +142,7 @@ class FilterPositionSource {
 // The placement settings every row but gauss's starts from: no Gaussian localization error.
 placement::PlacementSettings exact_positions(const CoevalTrial& t) {
   placement::PlacementSettings p = t.settings.placement;
-  p.errors.sigma_loc_m = 0.0;
+  p.errors.clear_localization();
   return p;
 }
 
@@ -159,25 +171,32 @@ EstimatorEntry truth() {
 EstimatorEntry gauss() {
   EstimatorEntry e;
   e.name = "gauss";
-  e.summary = "the paper's Gaussian localization error, sigma_loc_m = the point's value";
+  e.summary =
+      "the paper's Gaussian localization error, sigma_loc_m = the point's beacon noise (plus [errors] "
+      "sigma_loc_common_m)";
+  e.keys = {"errors.sigma_loc_common_m"};
   e.refuses = [](const placement::PlannerEntry& planner) { return needs_positions(planner, "gauss"); };
   e.run = [](const CoevalRow& row, const placement::PlannerEntry& planner, const CoevalTrial& t) {
     placement::PlacementSettings p = t.settings.placement;
     p.errors.sigma_loc_m = t.beacon_noise_m;
     experiment::TrialRecord r = run_planner(row, planner, t, p);
-    set_gaussian_metrics(r, t.beacon_noise_m, static_cast<int>(t.start_m.cols()));
+    set_gaussian_metrics(r, {p.errors.axis_sigma_loc_m(), p.errors.axis_sigma_loc_common_m()},
+                         static_cast<int>(t.start_m.cols()));
     not_applicable(r, {kPairedTravelDiff, kPairedIterationsDiff});
     return r;
   };
   return e;
 }
 
-// The Gaussian model at the sigma that `sigma_of_ekf` takes from the same planner's ekf record
+// The Gaussian model's sigmas per axis that match an ekf record, for a swarm of num_uavs.
+using MatchSigmas = GaussianSigmas (*)(const experiment::TrialRecord& ekf, int num_uavs);
+
+// The Gaussian model at the sigmas that `sigma_of_ekf` takes from the same planner's ekf record
 // (the one already run in this trial, else its own run for this row alone), with the paired
-// travel and iteration differences against that record.
+// travel and iteration differences against that record. [errors] sigma_loc_common_m does not
+// apply: the match sets both parts.
 experiment::TrialRecord run_matched_gaussian(const CoevalRow& row, const placement::PlannerEntry& planner,
-                                             const CoevalTrial& t,
-                                             double (*sigma_of_ekf)(const experiment::TrialRecord&, int num_uavs)) {
+                                             const CoevalTrial& t, MatchSigmas sigma_of_ekf) {
   const CoevalRow ekf_row{planner.name + "+ekf", planner.name, "ekf"};
   std::optional<experiment::TrialRecord> ekf;
   for (std::size_t i = 0; i < t.rows_done.size(); ++i) {
@@ -186,16 +205,19 @@ experiment::TrialRecord run_matched_gaussian(const CoevalRow& row, const placeme
   if (!ekf) ekf = estimator_entry("ekf").run(ekf_row, planner, t);
   const int num_uavs = static_cast<int>(t.start_m.cols());
   placement::PlacementSettings p = t.settings.placement;
-  p.errors.sigma_loc_m = sigma_of_ekf(*ekf, num_uavs);
+  const GaussianSigmas g = sigma_of_ekf(*ekf, num_uavs);
+  // Per axis whatever [errors] sigma_convention says: the match is per axis.
+  p.errors.sigma_convention = placement::SigmaConvention::kPerAxis;
+  p.errors.sigma_loc_m = g.independent_m;
+  p.errors.sigma_loc_common_m = g.common_m;
   experiment::TrialRecord own = run_planner(row, planner, t, p);
-  set_gaussian_metrics(own, p.errors.sigma_loc_m, num_uavs);
+  set_gaussian_metrics(own, g, num_uavs);
   own.extension.set(kPairedTravelDiff, ekf->dist_to_icn095_m - own.dist_to_icn095_m);
   own.extension.set(kPairedIterationsDiff, static_cast<double>(ekf->iterations - own.iterations));
   return own;
 }
 
-EstimatorEntry matched_gaussian(const std::string& name, const std::string& summary,
-                                double (*sigma_of_ekf)(const experiment::TrialRecord&, int num_uavs)) {
+EstimatorEntry matched_gaussian(const std::string& name, const std::string& summary, MatchSigmas sigma_of_ekf) {
   EstimatorEntry e;
   e.name = name;
   e.summary = summary;
@@ -210,19 +232,39 @@ EstimatorEntry matched_gaussian(const std::string& name, const std::string& summ
 }
 
 EstimatorEntry gauss_matched() {
-  return matched_gaussian(
-      "gauss_matched", "the Gaussian at the lateral RMSE the same planner's ekf row measured (same trial and point)",
-      [](const experiment::TrialRecord& ekf, int) { return ekf.extension.at(kLocLateralRmse) / std::sqrt(2.0); });
+  return matched_gaussian("gauss_matched",
+                          "the Gaussian at the lateral RMSE the same planner's ekf row measured (same trial and point)",
+                          [](const experiment::TrialRecord& ekf, int) {
+                            return GaussianSigmas{ekf.extension.at(kLocLateralRmse) / std::sqrt(2.0), 0.0};
+                          });
+}
+
+// The independent sigma whose expected shape RMSE, sigma sqrt((2N - 3) / N), is the ekf's.
+double shape_matched_sigma(const experiment::TrialRecord& ekf, int num_uavs) {
+  const double unit = placement::expected_split_of_independent_errors(num_uavs, 1.0).shape_lateral_rmse_m;
+  return unit > 0.0 ? ekf.extension.at(kShapeLateralRmse) / unit : 0.0;
 }
 
 EstimatorEntry gauss_shape_matched() {
-  // sigma such that the model's expected shape RMSE, sigma sqrt((2N - 3) / N), is the ekf's.
   return matched_gaussian(
       "gauss_shape_matched",
       "the Gaussian at the shape RMSE (common offset and rotation removed) the same planner's ekf row measured",
       [](const experiment::TrialRecord& ekf, int num_uavs) {
-        const double unit = placement::expected_split_of_independent_errors(num_uavs, 1.0).shape_lateral_rmse_m;
-        return unit > 0.0 ? ekf.extension.at(kShapeLateralRmse) / unit : 0.0;
+        return GaussianSigmas{shape_matched_sigma(ekf, num_uavs), 0.0};
+      });
+}
+
+// Both parts matched: the independent one at the ekf's shape RMSE, the common one so that the
+// expected common lateral offset, 2 sigma^2 / N + 2 sigma_common^2, is the ekf's squared.
+EstimatorEntry gauss_split_matched() {
+  return matched_gaussian(
+      "gauss_split_matched",
+      "the Gaussian with a common-mode part, both matched: shape RMSE and common lateral offset of the ekf row",
+      [](const experiment::TrialRecord& ekf, int num_uavs) {
+        const double sigma = shape_matched_sigma(ekf, num_uavs);
+        const double common = ekf.extension.at(kCommonLateral);
+        const double from_independent = 2.0 * sigma * sigma / num_uavs;
+        return GaussianSigmas{sigma, std::sqrt(std::max(0.0, common * common - from_independent) / 2.0)};
       });
 }
 
@@ -297,6 +339,7 @@ std::vector<EstimatorEntry> builtin_estimators() {
           gauss(),
           gauss_matched(),
           gauss_shape_matched(),
+          gauss_split_matched(),
           filter("ekf", "every UAV's EKF on beacon + dead reckoning (gd: the closed loop, BF fallback on)", {},
                  {FilterKind::kEkf, false, true}),
           filter("ekf_nofallback", "gd's closed loop with the EKF and the BF fallback off", {},

@@ -44,7 +44,11 @@ experiment::ExperimentExtensions experiment_extensions() {
   outage.unused_conditions = [](const experiment::ExperimentSettings& s) {
     return absent(load_coevaluation_settings(s).outage_algorithms, "outage_algorithms");
   };
-  return {noise, outage};
+  experiment::ExperimentExtension misalignment = misalignment_extension();
+  misalignment.unused_conditions = [](const experiment::ExperimentSettings& s) {
+    return absent(load_coevaluation_settings(s).misalignment_algorithms, "misalignment_algorithms");
+  };
+  return {noise, outage, misalignment};
 }
 
 }  // namespace losmimo::coevaluation

@@ -13,126 +13,23 @@
 #include "losmimo/placement/common/format.h"
 #include "losmimo/placement/common/gnuplot.h"
 #include "losmimo/placement/swarm_shape.h"
+#include "report_parts.h"
 
 namespace losmimo::coevaluation {
+
+using namespace report_detail;
 
 namespace {
 
 namespace fs = std::filesystem;
 using experiment::Estimate;
-using experiment::MetricId;
 using experiment::SummaryRow;
 namespace metrics = experiment::metrics;
-
-// A dat() column that is the row's own field, not a metric.
-constexpr MetricId kConvergedFraction{"converged_fraction"};
 
 // The paper's GD at sigma_loc 0 and 0.18 m (Fig 2b, read off the plot to ~0.5 dB).
 constexpr double kPaperGdNv0_db = 20.5;
 constexpr double kPaperGdNv018_db = 16.5;
 constexpr double kTargetLoss_db = 1.0;
-
-std::string fmt(double v, int precision = 2) { return common::format_fixed(v, precision); }
-
-std::string fmt_estimate(const Estimate* e, int precision = 2) {
-  if (!e || e->n == 0 || !std::isfinite(e->mean)) return "n/a";
-  return fmt(e->mean, precision) + " ± " + fmt(std::isfinite(e->ci95) ? e->ci95 : 0.0, precision);
-}
-
-// The algorithms of a sweep, in the order the rows have them.
-std::vector<std::string> algorithms_of(const std::vector<SummaryRow>& rows, const std::string& sweep) {
-  std::vector<std::string> out;
-  for (const SummaryRow& r : rows) {
-    if (r.sweep == sweep && std::find(out.begin(), out.end(), r.algorithm) == out.end()) out.push_back(r.algorithm);
-  }
-  return out;
-}
-
-const SummaryRow* find_row(const std::vector<SummaryRow>& rows, const std::string& sweep, double value,
-                           const std::string& algorithm) {
-  for (const SummaryRow& r : rows) {
-    if (r.sweep == sweep && r.value == value && r.algorithm == algorithm) return &r;
-  }
-  return nullptr;
-}
-
-const char* color(const std::string& algorithm) {
-  static const std::pair<const char*, const char*> kColors[] = {{"gd_gauss", "#1f77b4"},
-                                                                {"gd_ekf", "#ff7f0e"},
-                                                                {"gd_pf", "#2ca02c"},
-                                                                {"gd_ekf_ceres", "#d62728"},
-                                                                {"bf", "#9467bd"},
-                                                                {"ura_ekf", "#8c564b"},
-                                                                {"centralized", "#000000"},
-                                                                {"gd_ekf_nofallback", "#e377c2"},
-                                                                {"gd_gauss_matched", "#17becf"}};
-  for (const auto& [name, c] : kColors) {
-    if (algorithm == name) return c;
-  }
-  return "#7f7f7f";
-}
-
-std::string converged(const SummaryRow& r) {
-  return std::to_string(std::lround(r.trials * r.converged_fraction)) + "/" + std::to_string(r.trials);
-}
-
-// One gnuplot data block per algorithm: value, then mean and ci95 of each metric
-// (kConvergedFraction is the row's own field, with ci 0).
-std::string dat(const std::vector<SummaryRow>& rows, const std::string& sweep,
-                const std::vector<std::string>& algorithms, const std::vector<MetricId>& columns) {
-  std::ostringstream o;
-  o.precision(10);
-  for (const std::string& a : algorithms) {
-    o << "# algorithm " << a << ": value";
-    for (const MetricId m : columns) o << " " << m.name << "_mean " << m.name << "_ci95";
-    o << "\n";
-    for (const SummaryRow& r : rows) {
-      if (r.sweep != sweep || r.algorithm != a) continue;
-      o << r.value;
-      for (const MetricId m : columns) {
-        if (m == kConvergedFraction) {
-          o << " " << r.converged_fraction << " 0";
-          continue;
-        }
-        const Estimate* e = r.metric(m);
-        const bool ok = e && e->n > 0 && std::isfinite(e->mean);
-        o << " " << (ok ? e->mean : NAN) << " " << (ok && std::isfinite(e->ci95) ? e->ci95 : 0.0);
-      }
-      o << "\n";
-    }
-    o << "\n\n";
-  }
-  return o.str();
-}
-
-std::string gp_header(const std::string& png, int width = 1000, int height = 650) {
-  std::ostringstream o;
-  o << "set terminal pngcairo size " << width << "," << height << " noenhanced font 'Sans,11'\n"
-    << "set output '" << png << "'\nset grid\nset key outside right\nset datafile missing 'nan'\n";
-  return o.str();
-}
-
-// Two curves per algorithm from data columns (2,3) solid and (4,5) dotted.
-std::string two_metric_plot(const std::string& dat_file, const std::vector<std::string>& algorithms,
-                            const std::string& solid, const std::string& dotted) {
-  std::ostringstream g;
-  g << "plot ";
-  for (std::size_t i = 0; i < algorithms.size(); ++i) {
-    const std::string c = color(algorithms[i]);
-    g << (i ? ", " : "") << "'" << dat_file << "' index " << i << " using 1:2:3 with yerrorlines lw 2 dt 1 lc rgb '"
-      << c << "' title '" << algorithms[i] << " " << solid << "', '' index " << i
-      << " using 1:4:5 with yerrorlines lw 2 dt 3 lc rgb '" << c << "' title '" << algorithms[i] << " " << dotted
-      << "'";
-  }
-  return g.str();
-}
-
-// Runs gnuplot on each stem when plots are on; returns warnings.
-std::vector<std::string> render(const experiment::ExperimentSettings& s, const fs::path& dir,
-                                const std::vector<std::string>& stems) {
-  if (!s.plots) return {};
-  return common::render_gnuplot(dir.string(), stems, "the co-evaluation .gp scripts were written but not rendered");
-}
 
 }  // namespace
 
@@ -192,79 +89,6 @@ std::vector<std::string> write_beacon_noise_figures(const experiment::Experiment
   g << (first ? "" : ", ") << "3 with lines dt 2 lc rgb '#000000' title 'chi2 mean (3)'\nunset multiplot\n";
   common::write_file_atomically((dir / "coeval_rmse.gp").string(), g.str());
   return render(s, dir, {"coeval_sinr", "coeval_travel", "coeval_rmse"});
-}
-
-// The two matched Gaussian rows: at gd_ekf's lateral RMSE and at its shape RMSE.
-struct MatchedGaussian {
-  const char* alias;
-  const char* heading;
-  const char* how;                      // how its sigma_loc is taken from gd_ekf's error
-  const char* same_error;               // what the two rows share
-  experiment::ExtensionMetric matched;  // gd_ekf's metric it matches
-  double matched_per_sigma;             // that metric's expected value per unit sigma_loc
-};
-
-// gd_ekf against a matched Gaussian row at every beacon noise: the paired differences of the
-// same trials (the row's paired_travel_diff_m and paired_iterations_diff), mean and 95% CI.
-std::string matched_error_section(const std::vector<SummaryRow>& rows, const std::vector<double>& values,
-                                  const MatchedGaussian& m) {
-  const std::string ekf = "gd_ekf", gauss = m.alias;
-  std::ostringstream md;
-  md << "\n### " << m.heading << "\n\n"
-     << "`" << gauss << "` runs the paper's GD with sigma_loc = `" << ekf << "`'s " << m.how
-     << " in the same trial, so both place from positions that are off by the same " << m.same_error
-     << "; only the error's "
-     << "structure differs (the filter's is correlated over iterations and comes with its covariance). Differences "
-     << "are paired (same start, same trial): " << ekf << " minus " << gauss << ", over the trials where both "
-     << "reached ICN 0.95; negative values favour the estimator.\n\n"
-     << "| beacon noise [m] | matched sigma_loc [m] | converged (" << ekf << " / " << gauss << ") | travel to ICN "
-     << "0.95, " << ekf << " [m] | " << gauss << " [m] | paired difference [m] | iterations, paired difference | "
-     << "verdict |\n|---|---|---|---|---|---|---|---|\n";
-  int rows_written = 0;
-  for (const double v : values) {
-    const SummaryRow* a = find_row(rows, kSweepBeaconNoise, v, ekf);
-    const SummaryRow* b = find_row(rows, kSweepBeaconNoise, v, gauss);
-    if (!a || !b) continue;
-    const Estimate* travel = b->metric(kPairedTravelDiff);
-    const Estimate* sigma = b->metric(m.matched);
-    md << "| " << fmt(v, 3) << " | " << (sigma && sigma->n > 0 ? fmt(sigma->mean / m.matched_per_sigma, 4) : "n/a")
-       << " | " << converged(*a) << " / " << converged(*b) << " | " << fmt_estimate(a->metric(metrics::kDistToIcn095M))
-       << " | " << fmt_estimate(b->metric(metrics::kDistToIcn095M)) << " | " << fmt_estimate(travel) << " | "
-       << fmt_estimate(b->metric(kPairedIterationsDiff), 1) << " | ";
-    if (!travel || travel->n < 2 || !std::isfinite(travel->ci95)) {
-      md << "not evaluated (fewer than 2 paired trials)";
-    } else if (travel->mean + travel->ci95 < 0.0) {
-      md << "**estimator wins** by " << fmt(-travel->mean) << " m";
-    } else if (travel->mean - travel->ci95 > 0.0) {
-      md << "**Gaussian model wins** by " << fmt(travel->mean) << " m";
-    } else {
-      md << "no difference established";
-    }
-    md << " |\n";
-    ++rows_written;
-  }
-  if (rows_written == 0) return {};
-  return md.str();
-}
-
-std::string matched_error_sections(const experiment::ExperimentSettings& s, const std::vector<SummaryRow>& rows,
-                                   const std::vector<double>& values) {
-  const int n = s.placement.scenario.num_uavs;
-  const double unit_shape = placement::expected_split_of_independent_errors(n, 1.0).shape_lateral_rmse_m;
-  const MatchedGaussian lateral{"gd_gauss_matched",
-                                "Integrating the estimator at matched error",
-                                "measured lateral RMSE / sqrt(2)",
-                                "lateral RMSE",
-                                kLocLateralRmse,
-                                std::sqrt(2.0)};
-  const MatchedGaussian shape{"gd_gauss_shape_matched",
-                              "Integrating the estimator at matched shape error",
-                              "measured shape RMSE / sqrt((2N - 3) / N) (common lateral offset and rotation about "
-                              "boresight removed, placement/swarm_shape.h)",
-                              "shape RMSE, the part of the error the channel sees",
-                              kShapeLateralRmse,
-                              unit_shape};
-  return matched_error_section(rows, values, lateral) + matched_error_section(rows, values, shape);
 }
 
 namespace {
@@ -379,8 +203,10 @@ std::string beacon_noise_report_section(const experiment::ExperimentSettings& s,
   const double vmax = *std::max_element(values.begin(), values.end());
   const std::vector<std::string> algorithms = algorithms_of(rows, kSweepBeaconNoise);
   std::ostringstream md;
-  md << beacon_noise_table(s, c, rows, algorithms, v0, vmax) << matched_error_sections(s, rows, values)
+  md << beacon_noise_table(s, c, rows, algorithms, v0, vmax)
+     << matched_error_sections(s, rows, kSweepBeaconNoise, values)
      << nv_sinr_loss_section(s, rows, algorithms, v0, vmax);
+  if (!s.sweep(kSweepMisalignment)) md << error_measure_section(rows);
   md << "\nResolved co-evaluation settings:\n\n```ini\n" << to_ini(c) << "```\n";
   return md.str();
 }

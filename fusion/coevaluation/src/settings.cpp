@@ -11,6 +11,7 @@
 #include "losmimo/placement/common/input_error.h"
 #include "losmimo/placement/common/text.h"
 #include "losmimo/fusion/closed_loop_settings.h"
+#include "losmimo/localization/position/simulator.h"
 #include "losmimo/placement/settings.h"
 
 namespace losmimo::coevaluation {
@@ -108,6 +109,18 @@ std::vector<common::Key<CoevaluationSettings>> coevaluation_key_list() {
                  1'000'000, "the filter is degraded after this many epochs without beacon", "2"),
       K::real(kSection, "outage_beacon_noise_m", &CoevaluationSettings::outage_beacon_noise_m,
               common::Range::at_least(0.0), "beacon cross-range 1-sigma at R in the outage sweep [m]", "0.05"),
+      K::real_list(kSection, "misalignment_values_rad", &CoevaluationSettings::misalignment_values_rad,
+                   localization::simulator_range::angle_bias,
+                   "bs_misalignment_rad sweep points: the BS array's azimuth misalignment [rad]", "0, 0.0009765625"),
+      K::text(
+          kSection, "misalignment_algorithms",
+          [](CoevaluationSettings& c, const std::string& text, const std::string& where) {
+            c.misalignment_algorithms = parse_rows(text, where);
+          },
+          [](const CoevaluationSettings& c) { return row_list(c.misalignment_algorithms); },
+          "comma-separated, as algorithms", "bs_misalignment_rad's rows", "gd_ekf, gd_gauss_shape_matched"),
+      K::real(kSection, "misalignment_beacon_noise_m", &CoevaluationSettings::misalignment_beacon_noise_m,
+              common::Range::at_least(0.0), "beacon cross-range 1-sigma at R in the misalignment sweep [m]", "0.03125"),
   };
   for (const auto& [key, old_key] : kSharedClosedLoopKeys) {
     const common::Key<fusion::ClosedLoopConfig>& shared = fusion::closed_loop_keys().key("closed_loop", key);
@@ -138,31 +151,40 @@ CoevaluationSettings load_coevaluation_settings(const experiment::ExperimentSett
   register_coevaluation_planners();
   CoevaluationSettings c;
   keys.load(cfg, c);
-  if (settings.sweep(kSweepBeaconNoise) || settings.sweep(kSweepBeaconOutage)) {
+  if (settings.sweep(kSweepBeaconNoise) || settings.sweep(kSweepBeaconOutage) || settings.sweep(kSweepMisalignment)) {
     placement::require_los_channel(settings.placement.channel, cfg, "co-evaluation");
   }
+  // The sweeps that run any planner, with their rows.
+  const std::pair<const std::string*, const std::vector<CoevalRow>*> planner_sweeps[] = {
+      {&kSweepBeaconNoise, &c.algorithms}, {&kSweepMisalignment, &c.misalignment_algorithms}};
   // centralized solves eq. 4 for its target ICN alpha, which must be below 1 (fusion/centralized.h).
-  const bool has_centralized = std::any_of(c.algorithms.begin(), c.algorithms.end(),
-                                           [](const CoevalRow& r) { return r.planner == "centralized"; });
-  if (settings.sweep(kSweepBeaconNoise) && has_centralized && !(settings.placement.run.target_icn < 1.0)) {
-    throw InputError(cfg.where("placement", "target_icn") + ": " +
-                     common::format_double(settings.placement.run.target_icn) +
-                     ": the beacon_noise_m sweep's centralized solution needs a target ICN below 1");
+  for (const auto& [sweep, rows] : planner_sweeps) {
+    const bool has_centralized =
+        std::any_of(rows->begin(), rows->end(), [](const CoevalRow& r) { return r.planner == "centralized"; });
+    if (settings.sweep(*sweep) && has_centralized && !(settings.placement.run.target_icn < 1.0)) {
+      throw InputError(cfg.where("placement", "target_icn") + ": " +
+                       common::format_double(settings.placement.run.target_icn) + ": the " + *sweep +
+                       " sweep's centralized solution needs a target ICN below 1");
+    }
   }
   keys.check(cfg, "", [&] {
     // The rows: ura_ekf's URA from ura_variant, every pair as its estimator allows.
     resolve_rows(c.algorithms, c.ura_variant, "algorithms");
     resolve_rows(c.outage_algorithms, c.ura_variant, "outage_algorithms");
+    resolve_rows(c.misalignment_algorithms, c.ura_variant, "misalignment_algorithms");
     require_closed_loop(c.outage_algorithms, "outage_algorithms");
     // The shared closed-loop settings by the closed loop's own rules.
     common::with_field_prefix("closed_loop", [&] { fusion::validate(c.closed_loop); });
-    for (const CoevalRow& row : c.algorithms) {
-      const std::vector<std::string>& own = placement::planner_entry(row.planner).sections;
-      const bool ura = std::find(own.begin(), own.end(), "ura") != own.end();
-      if (settings.sweep(kSweepBeaconNoise) && ura && scenario.num_uavs != scenario.num_bs_antennas()) {
-        throw common::FieldError("algorithms", row.name + " needs scenario.num_uavs = bs_rows * bs_cols (" +
-                                                   std::to_string(scenario.num_bs_antennas()) + "), got " +
-                                                   std::to_string(scenario.num_uavs));
+    for (const auto& [sweep, rows] : planner_sweeps) {
+      for (const CoevalRow& row : *rows) {
+        const std::vector<std::string>& own = placement::planner_entry(row.planner).sections;
+        const bool ura = std::find(own.begin(), own.end(), "ura") != own.end();
+        if (settings.sweep(*sweep) && ura && scenario.num_uavs != scenario.num_bs_antennas()) {
+          throw common::FieldError(rows == &c.algorithms ? "algorithms" : "misalignment_algorithms",
+                                   row.name + " needs scenario.num_uavs = bs_rows * bs_cols (" +
+                                       std::to_string(scenario.num_bs_antennas()) + "), got " +
+                                       std::to_string(scenario.num_uavs));
+        }
       }
     }
     // Checked with or without the sweep when given; the default only when the sweep runs.

@@ -22,6 +22,17 @@ localization::FilterConfig filter_config(const CoevaluationSettings& c, const lo
 // Sets the given metrics of a record to NaN (it has no value for them).
 void not_applicable(experiment::TrialRecord& r, std::initializer_list<experiment::MetricId> metrics);
 
+// Every row of `rows` on one trial at one point of `sweep`, in order, from the trial's start and
+// seed, the estimators at beacon noise beacon_noise_m (CoevalTrial).
+std::vector<experiment::TrialRecord> run_rows(const experiment::ExperimentSettings& s, const CoevaluationSettings& c,
+                                              const std::vector<CoevalRow>& rows, const std::string& sweep, int point,
+                                              int trial, double beacon_noise_m);
+
+// A sweep's trial function bound to the run's settings, its co-evaluation settings parsed once.
+using TrialOf = std::vector<experiment::TrialRecord> (*)(const experiment::ExperimentSettings&,
+                                                         const CoevaluationSettings&, int, int);
+experiment::ExperimentExtension::TrialFn bound(const experiment::ExperimentSettings& s, TrialOf run);
+
 // The record of gd's closed loop under `config` for row `name` (metrics from its statistics).
 experiment::TrialRecord closed_loop_record(const experiment::ExperimentSettings& s, const std::string& sweep, int point,
                                            int trial, const std::string& name, const fusion::ClosedLoopConfig& config);

@@ -72,7 +72,7 @@ placement::RunResult run_algorithm_on_swarm(const ExperimentSettings& s, const p
   placement::RunResult result = placement::run_placement(*planner, swarm, run);
   if (seed_free) {
     *seed_free = !p.channel.active() && swarm.normal_blocks_drawn() == 0 &&
-                 (p.errors.sigma_loc_m == 0.0 || swarm.position_estimates() == 0);
+                 (p.errors.exact_localization() || swarm.position_estimates() == 0);
   }
   return result;
 }
@@ -86,7 +86,7 @@ placement::RunResult run_algorithm(const ExperimentSettings& s, const placement:
 
 bool SeedFreeRuns::applies(const placement::PlacementSettings& p, const Algorithm& a) {
   return !p.channel.active() && p.errors.sigma_act_m == 0.0 &&
-         (p.errors.sigma_loc_m == 0.0 || !a.entry().uses_positions);
+         (p.errors.exact_localization() || !a.entry().uses_positions);
 }
 
 std::optional<TrialRecord> SeedFreeRuns::find(const Algorithm& a, int trial) const {
@@ -234,7 +234,7 @@ placement::RunResult run_traced(const ExperimentSettings& s, const Algorithm& al
 
 placement::RunResult run_path(const ExperimentSettings& s, const Algorithm& algorithm, int trial, double sigma_act_m) {
   placement::PlacementSettings p = s.placement;
-  p.errors.sigma_loc_m = 0.0;
+  p.errors.clear_localization();
   p.errors.sigma_act_m = sigma_act_m;
   placement::RunOptions run = p.run;
   run.record_path = true;

@@ -19,6 +19,7 @@
 #include "losmimo/placement/channel.h"
 #include "losmimo/placement/common/input_error.h"
 #include "losmimo/placement/metrics.h"
+#include "losmimo/placement/swarm_shape.h"
 
 namespace losmimo::rawlog {
 
@@ -49,7 +50,8 @@ void link_metrics(const placement::ChannelModel& model, double noise_variance, c
 
 // One epoch's positions and errors, gathered UAV by UAV.
 struct EpochColumns {
-  Eigen::Matrix3Xd truth_m, estimate_m;  // 3 x Nr
+  Eigen::Matrix3Xd truth_m, estimate_m;         // 3 x Nr
+  std::vector<Eigen::Matrix2d> lateral_cov_m2;  // per UAV: the belief's (y, z) covariance
   bool all_truth = true;
   localization::ErrorAccumulator errors;
 };
@@ -78,6 +80,7 @@ class MissionReplay {
   std::vector<fusion::UavEstimator> uavs_;
   std::vector<localization::Belief> held_filtered_, held_belief_;  // silent UAVs keep these
   localization::ErrorAccumulator errors_, filter_errors_;
+  placement::SwarmShapeAccumulator shape_;  // the epochs with every UAV's truth
   double icn_sum_ = 0.0;
   int icn_epochs_ = 0;
   ReplayResult out_;
@@ -117,6 +120,9 @@ ReplayResult MissionReplay::run() {
   out_.rmse_m = errors_.rmse_m();
   out_.lateral_rmse_m = errors_.lateral_rmse_m();
   out_.average_nees = errors_.average_nees();
+  out_.common_lateral_rms_m = shape_.common_lateral_rms_m();
+  out_.shape_lateral_rmse_m = shape_.shape_lateral_rmse_m();
+  out_.shape_nees_per_dof = shape_.shape_nees_per_dof();
   out_.filter_rmse_m = filter_errors_.rmse_m();
   return std::move(out_);
 }
@@ -124,7 +130,11 @@ ReplayResult MissionReplay::run() {
 ReplayEpochMetrics MissionReplay::epoch(int k) {
   ReplayEpochMetrics row;
   row.epoch = k;
-  EpochColumns columns{Eigen::Matrix3Xd(3, nr_), Eigen::Matrix3Xd(3, nr_), true, {}};
+  EpochColumns columns{Eigen::Matrix3Xd(3, nr_),
+                       Eigen::Matrix3Xd(3, nr_),
+                       std::vector<Eigen::Matrix2d>(static_cast<std::size_t>(nr_)),
+                       true,
+                       {}};
   for (int m = 0; m < nr_; ++m) out_.estimates.push_back(uav_epoch(k, m, columns, row));
   errors_ += columns.errors;
   epoch_metrics(columns, row);
@@ -172,6 +182,7 @@ ReplayUavEpoch MissionReplay::uav_epoch(int k, int m, EpochColumns& columns, Rep
   }
   if (belief.degraded && cl_.fallback_to_bf && commanded) ++row.fallback_uavs;
   columns.estimate_m.col(m) = belief.mean_m;
+  columns.lateral_cov_m2[static_cast<std::size_t>(m)] = belief.cov_m2.bottomRightCorner<2, 2>();
   if (in.truth_m) {
     est.has_truth = true;
     est.truth_m = *in.truth_m;
@@ -220,6 +231,7 @@ void MissionReplay::epoch_metrics(const EpochColumns& columns, ReplayEpochMetric
     return;
   }
   link_metrics(model_, scenario_.noise_variance(), columns.truth_m, row);
+  shape_.add(columns.truth_m, columns.estimate_m, columns.lateral_cov_m2);
   ReplayEpochMetrics est_row;
   link_metrics(model_, scenario_.noise_variance(), columns.estimate_m, est_row);
   row.icn_estimated = est_row.icn;
@@ -258,6 +270,9 @@ std::vector<std::pair<std::string, std::string>> replay_summary_rows(const Missi
       {"rmse_m", common::format_csv(r.rmse_m)},
       {"lateral_rmse_m", common::format_csv(r.lateral_rmse_m)},
       {"average_nees", common::format_csv(r.average_nees)},
+      {"common_lateral_m", common::format_csv(r.common_lateral_rms_m)},
+      {"shape_lateral_rmse_m", common::format_csv(r.shape_lateral_rmse_m)},
+      {"shape_nees", common::format_csv(r.shape_nees_per_dof)},
       {"filter_rmse_m", common::format_csv(r.filter_rmse_m)},
       {"mean_icn", common::format_csv(r.mean_icn)},
       {"final_icn", common::format_csv(r.final_icn)},

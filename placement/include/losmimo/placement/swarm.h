@@ -11,6 +11,10 @@
 // variables with standard deviations sigma_loc and sigma_act"; per axis is the default.
 // With LocError::kFixedPerUav the localization error of UAV m is one draw n_m per swarm (a bias
 // that stays for the whole run), from a generator of its own seeded from the swarm's seed.
+// A common-mode part (sigma_loc_common_m, default 0) adds one offset c ~ N(0, s_common^2 I),
+// drawn once per swarm from another generator of its own and shared by every UAV for the whole
+// run, to every estimate: a BS array mounted off its bearing or a BS position surveyed wrong
+// moves every UAV's fix the same way (placement/swarm_shape.h: the channel barely sees it).
 // The stream is counter-based (kernels.h, normals, keyed by the swarm's seed): its i-th number
 // depends on (seed, i) only, the same on every instruction set, and it comes 16 per vector
 // block. A zero sigma draws nothing.
@@ -50,10 +54,19 @@ struct ErrorModel {
   double sigma_act_m = 0.0;
   SigmaConvention sigma_convention = SigmaConvention::kPerAxis;
   LocError loc_error = LocError::kFresh;
+  double sigma_loc_common_m = 0.0;  // the common-mode part, shared by every UAV (see above)
 
   // The standard deviation per axis of each error [m].
   double axis_sigma_loc_m() const { return axis_sigma(sigma_loc_m); }
   double axis_sigma_act_m() const { return axis_sigma(sigma_act_m); }
+  double axis_sigma_loc_common_m() const { return axis_sigma(sigma_loc_common_m); }
+  // Whether a position estimate is the truth (both localization parts 0).
+  bool exact_localization() const { return sigma_loc_m == 0.0 && sigma_loc_common_m == 0.0; }
+  // Both localization parts set to 0 (another source, or none, replaces the model).
+  void clear_localization() {
+    sigma_loc_m = 0.0;
+    sigma_loc_common_m = 0.0;
+  }
 
  private:
   double axis_sigma(double sigma_m) const;
@@ -63,6 +76,7 @@ struct ErrorModel {
 namespace error_range {
 inline constexpr common::Range sigma_loc_m = common::Range::closed(0.0, 1e3);
 inline constexpr common::Range sigma_act_m = common::Range::closed(0.0, 1e3);
+inline constexpr common::Range sigma_loc_common_m = common::Range::closed(0.0, 1e3);
 }  // namespace error_range
 // Throws common::FieldError naming the field if a sigma is out of its range.
 void validate(const ErrorModel& errors);
@@ -170,6 +184,7 @@ class Swarm {
   double axis_sigma_loc_m_ = 0.0;
   double axis_sigma_act_m_ = 0.0;
   Eigen::Matrix3Xd loc_bias_m_;  // LocError::kFixedPerUav: UAV m's fixed error (3 x Nr), else empty
+  Eigen::Vector3d loc_common_m_ = Eigen::Vector3d::Zero();  // the common-mode offset (0 unless set)
   PositionEstimator estimator_;
   std::optional<SwarmFault> fault_;
   ChannelConditions conditions_;

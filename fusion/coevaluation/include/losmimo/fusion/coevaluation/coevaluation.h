@@ -54,7 +54,16 @@
 //   outage_degraded_after_epochs epochs without beacon. Algorithms: gd_ekf (BF fallback) and,
 //   for comparison, gd_ekf_nofallback, gd_pf, gd_ekf_ceres.
 //
-// Extra trials.csv / summary.csv columns, the same for both sweeps: coevaluation_metrics() below
+// Sweep `bs_misalignment_rad`: the value is the BS array's azimuth misalignment [rad], which every
+//   UAV's beacon bearing reads and no filter knows ([closed_loop] bs_azimuth_bias_rad at that
+//   value): it moves every beacon fix laterally by about R x value, the same way (a common-mode
+//   error, placement/swarm_shape.h). Beacon noise misalignment_beacon_noise_m at every point, as a
+//   beacon_noise_m value. Rows misalignment_algorithms, run as at a beacon_noise_m point: gd_gauss
+//   is the paper's model of the beacon noise alone (blind to the misalignment), the matched rows
+//   take gd_ekf's absolute, shape, and shape-plus-common errors; bf, which needs no position,
+//   is the reference the misalignment cannot reach.
+//
+// Extra trials.csv / summary.csv columns, the same for every sweep: coevaluation_metrics() below
 // (every record sets each, NaN where it does not apply).
 //
 // Settings: the [coevaluation] keys, and the [closed_loop] keys the closed-loop algorithms share
@@ -81,6 +90,7 @@ namespace losmimo::coevaluation {
 
 inline const std::string kSweepBeaconNoise = "beacon_noise_m";
 inline const std::string kSweepBeaconOutage = "beacon_outage";
+inline const std::string kSweepMisalignment = "bs_misalignment_rad";
 
 struct CoevaluationSettings {
   std::vector<double> beacon_noise_values_m = {0.0, 0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.14, 0.16, 0.18};
@@ -100,6 +110,12 @@ struct CoevaluationSettings {
   int outage_epochs = 30;
   int outage_degraded_after_epochs = 5;
   double outage_beacon_noise_m = 0.1;  // cross-range 1-sigma at R, as beacon_noise_m's value
+  // bs_misalignment_rad: the BS array's azimuth misalignment [rad] at each point (it replaces
+  // [closed_loop] bs_azimuth_bias_rad), at beacon noise misalignment_beacon_noise_m.
+  std::vector<double> misalignment_values_rad = {0.0, 0.000244140625, 0.00048828125, 0.0009765625, 0.001953125};
+  std::vector<CoevalRow> misalignment_algorithms = aliased_rows(
+      {"gd_gauss", "gd_ekf", "gd_gauss_matched", "gd_gauss_shape_matched", "gd_gauss_split_matched", "bf"});
+  double misalignment_beacon_noise_m = 0.02;
 };
 
 // The key table: the [coevaluation] keys, the shared [closed_loop] ones (their entries in
@@ -173,10 +189,13 @@ std::vector<experiment::TrialRecord> run_outage_trial(const experiment::Experime
                                                       const CoevaluationSettings& c, int point, int trial);
 std::vector<experiment::TrialRecord> run_outage_trial(const experiment::ExperimentSettings& settings, int point,
                                                       int trial);
+std::vector<experiment::TrialRecord> run_misalignment_trial(const experiment::ExperimentSettings& settings,
+                                                            const CoevaluationSettings& c, int point, int trial);
 
-// The two extensions (extensions.h lists them); each parses its settings once per run
+// The three extensions (extensions.h lists them); each parses its settings once per run
 // (ExperimentExtension::bind).
 experiment::ExperimentExtension beacon_noise_extension();
 experiment::ExperimentExtension beacon_outage_extension();
+experiment::ExperimentExtension misalignment_extension();
 
 }  // namespace losmimo::coevaluation

@@ -11,12 +11,17 @@
 // The builtin estimators:
 //   truth           the planner sees the true positions (sigma_loc 0); the only one a planner
 //                   that uses no positions (bf, random) or a direct one (centralized) pairs with
-//   gauss           the paper's Gaussian localization error, sigma_loc_m = the point's value v
+//   gauss           the paper's Gaussian localization error, sigma_loc_m = the point's beacon
+//                   noise v, with [errors] sigma_loc_common_m as its common-mode part
 //   gauss_matched   the Gaussian at the error the same planner's ekf row measured in the same
 //                   trial and point (sigma_loc_m = its loc_lateral_rmse_m / sqrt(2))
 //   gauss_shape_matched  the same at the ekf row's shape error: sigma_loc_m = its
 //                   shape_lateral_rmse_m / sqrt((2N - 3) / N), the model's expected shape RMSE
 //                   per unit sigma (placement/swarm_shape.h)
+//   gauss_split_matched  the Gaussian with both parts matched to the ekf row: the independent
+//                   sigma as gauss_shape_matched's, the common-mode sigma (placement/swarm.h)
+//                   such that the expected common lateral offset is the ekf row's
+//                   common_lateral_m. The matched rows use no [errors] sigma_loc_common_m.
 //   ekf, pf         every UAV's own beacon + dead-reckoning filter (fusion/estimation_step.h);
 //                   with gd the closed loop (fusion/closed_loop.h, BF fallback on), with another
 //                   iterative planner that planner on the filters' beliefs, one epoch per

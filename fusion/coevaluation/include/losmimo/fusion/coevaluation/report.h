@@ -9,6 +9,8 @@
 //                      dashed black) and average NEES (3 = consistent)
 // beacon_outage, against the number of UAVs without beacon:
 //   outage.png         converged fraction, travel to ICN 0.95 and in total, BF fallback fraction
+// bs_misalignment_rad, against the misalignment [mrad]:
+//   misalignment.png   lateral and shape RMSE (log scale), final NV SINR, travel to ICN 0.95
 // Each .png has its .dat and .gp beside it; gnuplot runs when [experiment] plots is on and
 // gnuplot is on PATH, else a warning says the scripts were left.
 // Means are over trials where the quantity is defined, with Student-t 95% half-widths.
@@ -36,5 +38,19 @@ std::vector<std::string> write_outage_figures(const experiment::ExperimentSettin
                                               const std::string& out_dir);
 std::string outage_report_section(const experiment::ExperimentSettings& settings,
                                   const std::vector<experiment::SummaryRow>& rows);
+
+std::vector<std::string> write_misalignment_figures(const experiment::ExperimentSettings& settings,
+                                                    const std::vector<experiment::SummaryRow>& rows,
+                                                    const std::string& out_dir);
+// Its table, the matched-error comparisons at every misalignment and error_measure_section.
+std::string misalignment_report_section(const experiment::ExperimentSettings& settings,
+                                        const std::vector<experiment::SummaryRow>& rows);
+
+// "Which localization error predicts capacity": over the (value, algorithm) means of the
+// co-evaluation sweeps in `rows` (beacon_noise_m, bs_misalignment_rad, beacon_outage; each alone
+// and all together), Spearman's (and Pearson's) correlation of final ICN, final NV SINR and travel
+// to ICN 0.95 with the lateral RMSE and with the shape RMSE, and which correlates more strongly.
+// Empty without such rows. The misalignment section has it, else the beacon_noise_m one.
+std::string error_measure_section(const std::vector<experiment::SummaryRow>& rows);
 
 }  // namespace losmimo::coevaluation

@@ -14,7 +14,9 @@
 // estimator is a co-evaluation on the same measurements.
 // Evaluation, per epoch with every UAV's truth: the channel H at the true positions (ICN, and
 // stream-1 SINR NV/ZF/MF, ZF sum rate, scenario's noise), the ICN at the estimated positions,
-// and per UAV the error e = mean - truth (3-D, lateral = y and z), NEES e^T P^-1 e. A UAV-epoch
+// and per UAV the error e = mean - truth (3-D, lateral = y and z), NEES e^T P^-1 e, and the
+// swarm's split of those errors into its common lateral offset and its shape (swarm_shape.h),
+// with the shape's NEES. A UAV-epoch
 // is a fallback when the belief placement would use is degraded (and the config's fallback is on),
 // unless the log says the UAV was not commanded in that iteration (mode '-'). An epoch without
 // every UAV's truth (a silent UAV's is not logged) has no ICN or SINR (nan); mean_icn averages
@@ -74,6 +76,10 @@ struct ReplayResult {
   std::vector<ReplayEpochMetrics> epochs;
   // Summary over every UAV-epoch with truth.
   double rmse_m = 0.0, lateral_rmse_m = 0.0, average_nees = 0.0;
+  // The swarm-shape split (placement/swarm_shape.h) over the epochs with every UAV's truth: the
+  // RMS common lateral offset, the shape residual's RMSE and its NEES per degree of freedom
+  // (NaN without such an epoch).
+  double common_lateral_rms_m = 0.0, shape_lateral_rmse_m = 0.0, shape_nees_per_dof = 0.0;
   double filter_rmse_m = 0.0;
   double final_icn = 0.0, final_sinr_zf_db = 0.0;
   double mean_icn = 0.0;  // over the epochs with every UAV's truth (nan if none)
