@@ -149,6 +149,10 @@ TEST(ErrorMeasureSection, CorrelationsAreSpearmansAndPearsons_AndNameTheStronger
       << md;
   // AND: the pooled points appear as their own group.
   EXPECT_NE(md.find("| all of them | final ICN | 7 |"), std::string::npos) << md;
+  // AND: the answer is read off the pooled group.
+  EXPECT_NE(md.find("Over all of them: final ICN is ordered better by the shape RMSE (|r| 0.61 against 0.46);"),
+            std::string::npos)
+      << md;
 }
 
 TEST(ErrorMeasureSection, WithoutCoevaluationRows_IsEmpty) {

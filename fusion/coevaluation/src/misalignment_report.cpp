@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iterator>
 #include <numeric>
 #include <sstream>
 
@@ -135,8 +136,30 @@ std::string error_measure_section(const std::vector<SummaryRow>& rows) {
       md << " |\n";
     }
   }
-  md << "\nWithin `beacon_noise_m` the errors are independent per UAV, so the two measures are nearly proportional "
-     << "and rank the points alike; a common-mode error (`bs_misalignment_rad`) separates them.\n";
+  // The answer, over the widest group (every sweep's points together when there are several).
+  const auto& [widest, widest_sweeps] = groups.back();
+  md << "\nOver " << widest << ":";
+  for (const Outcome& o : kOutcomes) {
+    const Points p = points_of(rows, widest_sweeps, o.metric);
+    const double r_lat = spearman(p.lateral, p.outcome), r_shape = spearman(p.shape, p.outcome);
+    md << " " << o.label << " is ordered ";
+    if (!std::isfinite(r_lat) || !std::isfinite(r_shape)) {
+      md << "by neither (not evaluated)";
+    } else {
+      const bool shape = std::abs(r_shape) > std::abs(r_lat);
+      md << "better by the " << (shape ? "shape" : "lateral") << " RMSE (|r| " << fmt(std::abs(shape ? r_shape : r_lat))
+         << " against " << fmt(std::abs(shape ? r_lat : r_shape)) << ")";
+    }
+    md << (&o == &kOutcomes[std::size(kOutcomes) - 1] ? "." : ";");
+  }
+  md << " The channel itself sees only the shape (a common lateral translation leaves ICN unchanged to second "
+     << "order, placement/swarm_shape.h); where the lateral RMSE predicts better, the planner turns the common "
+     << "offset into a loss: the paper's GD models a UAV's own channel row at its believed position against the "
+     << "others' measured rows, so a common offset it believes in is, to that model, a misfit of the UAV's own "
+     << "row. Compare `gd_gauss_shape_matched` with `gd_gauss_split_matched` in the misalignment sweep: the same "
+     << "shape error, with and without the common part.\n\nWithin `beacon_noise_m` the errors are independent "
+     << "per UAV, so the two measures are nearly proportional and rank the points alike; a common-mode error "
+     << "(`bs_misalignment_rad`) separates them.\n";
   return md.str();
 }
 
