@@ -86,6 +86,35 @@ TEST(LosmimoEval, HugeCoordinate_ExitsTwoWithoutNan) {
   EXPECT_NE(err.str().find("huge.csv:1: field x"), std::string::npos) << err.str();
 }
 
+TEST(LosmimoEval, ExperimentsPositionsTable_OneSwarmBySelect_IsThatSwarmAsAPlainFile) {
+  // GIVEN: one swarm inside a table of two, and the same swarm as a plain x,y,z file.
+  const std::string table = temp_file("positions_table.csv",
+                                      "sweep,value,algorithm,trial,uav,stage,x,y,z\n"
+                                      "s,0,gd,0,1,final,1000,0,0\ns,0,gd,0,2,final,1000,5,0\n"
+                                      "s,0,gd,1,1,final,1000,0,1\ns,0,gd,1,2,final,1000,0,6\n");
+  losmimo::apps::EvalOptions a;
+  a.positions_path = table;
+  a.selection = {"trial=1"};
+  a.csv = true;
+  losmimo::apps::EvalOptions b;
+  b.positions_path = temp_file("positions_plain.csv", "1000,0,1\n1000,0,6\n");
+  b.csv = true;
+  std::ostringstream out_a, err_a, out_b, err_b;
+  // THEN: the same metrics.
+  ASSERT_EQ(losmimo::apps::run_eval_app(a, out_a, err_a), 0) << err_a.str();
+  ASSERT_EQ(losmimo::apps::run_eval_app(b, out_b, err_b), 0) << err_b.str();
+  EXPECT_EQ(out_a.str(), out_b.str());
+  // AND: without the selection, or with a malformed one, exit 2 with what to choose.
+  a.selection.clear();
+  std::ostringstream out_c, err_c;
+  EXPECT_EQ(losmimo::apps::run_eval_app(a, out_c, err_c), 2);
+  EXPECT_NE(err_c.str().find("trial: 0, 1"), std::string::npos) << err_c.str();
+  a.selection = {"trial"};
+  std::ostringstream out_d, err_d;
+  EXPECT_EQ(losmimo::apps::run_eval_app(a, out_d, err_d), 2);
+  EXPECT_NE(err_d.str().find("--select trial: expected column=value"), std::string::npos) << err_d.str();
+}
+
 // GIVEN a directory as --config (found by review: it opened fine, read as an empty config and
 // the app ran with the defaults, exit code 0). An empty file stays a valid empty config.
 TEST(IniConfig, DirectoryAsConfig_IsAReadError) {

@@ -63,7 +63,15 @@ int run_eval_app(const EvalOptions& options, std::ostream& out, std::ostream& er
     const PlacementSettings settings = load_placement_settings(config);
     require_los_channel(settings.channel, config, "losmimo-eval");
     refuse_unused_overrides(config, options.overrides, {{"losmimo-eval", {}}});
-    const Eigen::Matrix3Xd q_m = read_positions_csv(options.positions_path);
+    PositionsSelection selection;
+    for (const std::string& s : options.selection) {
+      const std::size_t eq = s.find('=');
+      if (eq == std::string::npos || eq == 0) {
+        throw InputError("--select " + s + ": expected column=value (e.g. --select trial=0)");
+      }
+      selection.emplace_back(s.substr(0, eq), s.substr(eq + 1));
+    }
+    const Eigen::Matrix3Xd q_m = read_positions_csv(options.positions_path, 65536, selection);
     const ChannelModel model(settings.scenario);
     for (Eigen::Index n = 0; n < q_m.cols(); ++n) {
       for (Eigen::Index k = 0; k < model.num_antennas(); ++k) {

@@ -146,10 +146,10 @@ std::string nv_sinr_loss_section(const experiment::ExperimentSettings& s, const 
     const Estimate* e1 = r1 ? r1->metric(metrics::kSinrNvDb) : nullptr;
     if (!e0 || !e1 || e0->n == 0 || e1->n == 0) return false;
     *loss = e0->mean - e1->mean;
-    const double c0 = std::isfinite(e0->ci95) ? e0->ci95 : 0.0, c1 = std::isfinite(e1->ci95) ? e1->ci95 : 0.0;
-    *ci = std::sqrt(c0 * c0 + c1 * c1);
-    md << "| " << a << " | " << fmt_estimate(e0) << " | " << fmt_estimate(e1) << " | " << fmt(*loss) << " | ±"
-       << fmt(*ci) << " |\n";
+    // One trial at a point has no CI: the loss then has none either (NaN, and no verdict below).
+    *ci = std::sqrt(e0->ci95 * e0->ci95 + e1->ci95 * e1->ci95);
+    md << "| " << a << " | " << fmt_estimate(e0) << " | " << fmt_estimate(e1) << " | " << fmt(*loss) << " | "
+       << (std::isfinite(*ci) ? "±" + fmt(*ci) : std::string("undefined (fewer than 2 trials)")) << " |\n";
     return true;
   };
   double ceres_loss = NAN, ceres_ci = NAN;
@@ -169,6 +169,9 @@ std::string nv_sinr_loss_section(const experiment::ExperimentSettings& s, const 
      << "within " << fmt(kTargetLoss_db, 0) << " dB of its noise-free value. ";
   if (!have_ceres || v0 == vmax) {
     md << "Not evaluated: the sweep needs `gd_ekf_ceres` at two beacon noises.\n";
+  } else if (!std::isfinite(ceres_ci)) {
+    md << "Not evaluated: a verdict needs a confidence interval, so at least 2 trials per point (this run has "
+       << s.trials << ").\n";
   } else {
     md << "Measured loss of `gd_ekf_ceres` from " << fmt(v0, 3) << " to " << fmt(vmax, 3) << " m: " << fmt(ceres_loss)
        << " ± " << fmt(ceres_ci) << " dB. Verdict: ";

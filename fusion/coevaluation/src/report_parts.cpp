@@ -17,10 +17,7 @@ using experiment::SummaryRow;
 
 std::string fmt(double v, int precision) { return common::format_fixed(v, precision); }
 
-std::string fmt_estimate(const Estimate* e, int precision) {
-  if (!e || e->n == 0 || !std::isfinite(e->mean)) return "n/a";
-  return fmt(e->mean, precision) + " ± " + fmt(std::isfinite(e->ci95) ? e->ci95 : 0.0, precision);
-}
+std::string fmt_estimate(const Estimate* e, int precision) { return experiment::format_estimate(e, precision); }
 
 // The algorithms of a sweep, in the order the rows have them.
 std::vector<std::string> algorithms_of(const std::vector<SummaryRow>& rows, const std::string& sweep) {

@@ -13,8 +13,7 @@ namespace losmimo::coevaluation::report_detail {
 // A dat() column that is the row's own field, not a metric.
 inline constexpr experiment::MetricId kConvergedFraction{"converged_fraction"};
 
-// v with `precision` decimals; an estimate as "mean ± ci95" ("n/a" when it has no finite mean,
-// and a non-finite half-width as 0).
+// v with `precision` decimals; an estimate as experiment::format_estimate writes it.
 std::string fmt(double v, int precision = 2);
 std::string fmt_estimate(const experiment::Estimate* e, int precision = 2);
 

@@ -32,9 +32,7 @@ double mean_of(const SummaryRow* row, MetricId id) {
 
 // "0.97 ± 0.01" of a row's metric.
 std::string cell(const SummaryRow* row, MetricId id, int decimals) {
-  const Estimate* e = row ? row->metric(id) : nullptr;
-  if (!e || e->n == 0) return "n/a";
-  return fmt(e->mean, decimals) + (std::isfinite(e->ci95) ? " ± " + fmt(e->ci95, decimals) : "");
+  return format_estimate(row ? row->metric(id) : nullptr, decimals);
 }
 
 std::string sweep_table(const ExperimentSettings& s, const SweepPoints& sweep, const std::vector<SummaryRow>& rows) {

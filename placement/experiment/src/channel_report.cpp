@@ -392,11 +392,7 @@ std::string channel_sweep_report_section(const ExperimentSettings& s, const std:
     for (const Algorithm& a : s.algorithms) {
       const SummaryRow* r = find_row(rows, sweep, v, to_string(a));
       if (!r) continue;
-      const auto cell = [&](MetricId m, int decimals) {
-        const Estimate* e = r->metric(m);
-        if (!e || e->n == 0) return std::string("n/a");
-        return fmt(e->mean, decimals) + (std::isfinite(e->ci95) ? " ± " + fmt(e->ci95, decimals) : "");
-      };
+      const auto cell = [&](MetricId m, int decimals) { return format_estimate(r->metric(m), decimals); };
       md << "| " << value_label(sweep, v) << " | " << to_string(a) << " | " << cell(metrics::kSumRateZfBpsHz, 1)
          << " | " << cell(metrics::kSumRateNvBpsHz, 1) << " | " << cell(metrics::kFinalIcn, 3) << " | "
          << cell(kFinalIcnLos, 3) << " | " << cell(metrics::kDistTotalM, 1) << " | "

@@ -39,9 +39,7 @@ const SummaryRow* find_row(const std::vector<SummaryRow>& rows, double value, co
 }
 
 std::string cell(const SummaryRow* row, MetricId id, int decimals) {
-  const Estimate* e = row ? row->metric(id) : nullptr;
-  if (!e || e->n == 0) return "n/a";
-  return fmt(e->mean, decimals) + (std::isfinite(e->ci95) && e->n > 1 ? " ± " + fmt(e->ci95, decimals) : "");
+  return format_estimate(row ? row->metric(id) : nullptr, decimals);
 }
 
 double mean_of(const SummaryRow* row, MetricId id) {

@@ -110,16 +110,40 @@ std::string report_header(const ExperimentSettings& s, const std::vector<std::st
   return md.str();
 }
 
+// How many paper values the table judged, and how many of those agree.
+struct Agreement {
+  int values = 0, not_run = 0, not_judged = 0, judged = 0, agree = 0;
+};
+
+// The line under the table: the agreement count with its sample size, and why a small sample
+// agrees more easily.
+std::string agreement_line(const ExperimentSettings& s, const Agreement& a) {
+  std::ostringstream md;
+  md << "\n**" << a.agree << " of " << a.judged << " judged values agree** with the paper, from " << s.trials
+     << " starts per point";
+  if (a.not_run > 0) md << "; " << a.not_run << " of the " << a.values << " not run here";
+  if (a.not_judged > 0) md << "; " << a.not_judged << " not judged (a single trial has no confidence interval)";
+  md << ". A value agrees within its 95% CI plus the plot's resolution, and the CI narrows as 1 / sqrt(n): "
+     << "with fewer starts more values agree only because their intervals are wide";
+  if (s.trials < 500) md << " (the paper's figures use 500 starts; this run has " << s.trials << ")";
+  md << ".\n";
+  return md.str();
+}
+
 // The table of paper values against the measured means; each disagreement, with its Why line
-// from the readings, goes to `differences`.
+// from the readings, goes to `differences`. A value from one trial has no CI: shown, not judged.
 std::string paper_table(const ExperimentSettings& s, const std::vector<SummaryRow>& rows,
-                        const ReadingResults& readings, std::vector<std::string>& differences) {
+                        const ReadingResults& readings, std::vector<std::string>& differences, Agreement& count) {
   std::ostringstream md;
   md << "| # | figure | quantity | paper | measured | 95% CI | n | agrees |\n|---|---|---|---|---|---|---|---|\n";
   int number = 0;
   for (const PaperValue& p : paper_values()) {
     ++number;
-    if (!s.sweep(p.sweep)) continue;
+    ++count.values;
+    if (!s.sweep(p.sweep)) {
+      ++count.not_run;
+      continue;
+    }
     const SummaryRow* row = report_parts::find_row(rows, p.sweep, p.value, p.algorithm);
     const Estimate* e = row ? row->metric(p.metric) : nullptr;
     // Without milestone columns, Fig 1's counts are the runs' iterations (equal when they stop at 0.95).
@@ -128,10 +152,18 @@ std::string paper_table(const ExperimentSettings& s, const std::vector<SummaryRo
         "| " + std::to_string(number) + " | " + p.figure + " | " + p.quantity + " | " + fmt(p.paper, 1) + " | ";
     if (!e) {
       md << head << "not run | | | |\n";
+      ++count.not_run;
       continue;
     }
     const std::string label =
         "#" + std::to_string(number) + " " + p.figure + ", " + p.quantity + ": paper " + fmt(p.paper, 1);
+    if (row->trials < 2 || e->n == 1 || (e->n > 1 && !std::isfinite(e->ci95))) {
+      md << head << (e->n > 0 ? fmt(e->mean, 2) : "never reached in " + std::to_string(row->trials) + " trial(s)")
+         << " | undefined | " << e->n << " | not judged (no CI) |\n";
+      ++count.not_judged;
+      continue;
+    }
+    ++count.judged;
     if (e->n == 0) {
       md << head << "never reached in " << row->trials << " trials | | 0 | **no** |\n";
       differences.push_back(label + ", never reached here within the iteration cap. Why: " +
@@ -139,7 +171,8 @@ std::string paper_table(const ExperimentSettings& s, const std::vector<SummaryRo
       continue;
     }
     const bool agreement = agrees(*e, p);
-    const double ci = std::isfinite(e->ci95) ? e->ci95 : 0.0;
+    if (agreement) ++count.agree;
+    const double ci = e->ci95;
     md << head << fmt(e->mean, 2) << " | ±" << fmt(ci, 2) << " | " << e->n << " | " << (agreement ? "yes" : "**no**")
        << " |\n";
     if (!agreement) {
@@ -208,10 +241,13 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
     common::write_stream_atomically((dir / "readings.csv").string(),
                                     [&](std::ostream& o) { write_readings_csv(o, readings); });
   }
-  if (builtin) md << paper_table(s, rows, readings, differences);
+  Agreement agreement;
+  if (builtin) md << paper_table(s, rows, readings, differences, agreement) << agreement_line(s, agreement);
   md << abstract_claims(s, rows);
   if (builtin) md << "\n## Differences larger than the confidence interval\n\n";
-  if (builtin && differences.empty()) md << "None.\n";
+  if (builtin && differences.empty()) md << (agreement.judged == 0 ? "None judged: no paper value was measured "
+                                                                     "with a confidence interval in this run.\n"
+                                                                   : "None.\n");
   for (const std::string& d : differences) md << "- " << d << "\n";
   if (!readings.empty()) md << "\n" << readings_section(readings);
   for (const ExperimentExtension& e : extensions) {

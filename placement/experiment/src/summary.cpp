@@ -11,6 +11,13 @@ namespace losmimo::experiment {
 
 namespace {}  // namespace
 
+std::string format_estimate(const Estimate* e, int decimals) {
+  if (!e || e->n == 0 || !std::isfinite(e->mean)) return "n/a";
+  const std::string mean = common::format_fixed(e->mean, decimals);
+  if (e->n < 2 || !std::isfinite(e->ci95)) return mean + " (n = " + std::to_string(e->n) + ")";
+  return mean + " ± " + common::format_fixed(e->ci95, decimals);
+}
+
 Estimate estimate(const std::vector<double>& values) {
   Estimate e;
   double sum = 0.0;

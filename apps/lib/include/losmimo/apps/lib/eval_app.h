@@ -17,6 +17,10 @@ struct EvalOptions {
   std::string positions_path;
   std::string config_path;             // empty: the built-in paper scenario
   std::vector<std::string> overrides;  // "section.key=value"
+  // "column=value": one swarm of a positions table (losmimo-experiment's positions.csv,
+  // placement/positions_csv.h), e.g. {"sweep=sigma_loc_m", "value=0", "algorithm=gd", "trial=3",
+  // "stage=final"}.
+  std::vector<std::string> selection;
   bool csv = false;
 };
 

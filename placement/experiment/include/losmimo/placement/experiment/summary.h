@@ -18,6 +18,9 @@ struct Estimate {
   int n = 0;
 };
 Estimate estimate(const std::vector<double>& values);
+// An estimate as report tables show it, `decimals` after the point: "mean ± ci95"; with one value
+// (no CI) "mean (n = 1)", never a made-up "± 0"; "n/a" for none, a missing one or a non-finite mean.
+std::string format_estimate(const Estimate* e, int decimals = 2);
 
 struct SummaryRow {
   std::string sweep;
