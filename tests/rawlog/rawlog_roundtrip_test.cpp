@@ -26,6 +26,7 @@
 #include "losmimo/fusion/rawlog/mission/log.h"
 #include "losmimo/fusion/rawlog/mission/recorder.h"
 #include "losmimo/placement/common/input_error.h"
+#include "losmimo/fusion/rawlog/mission/replay.h"
 #include "rawlog/rawlog_test_util.h"
 #include "support/dependencies.h"
 
@@ -286,6 +287,13 @@ TEST(RawlogRecordApp, WritesTheBeaconsIniBesideTheLog_AndRefusesOneInTheWay) {
   MissionConfig defaults = load_mission_config(common::IniConfig());
   EXPECT_EQ(test_support::read_file(ini), mission_beacons_ini_text(defaults));
   EXPECT_NE(out.str().find(ini), std::string::npos) << out.str();
+  // AND: the summary splits the beliefs' lateral error into the common offset and the shape, as
+  // the replay of the log does (replay.h).
+  const ReplayResult replayed = replay_mission(test_support::load_log(path), {});
+  std::ostringstream split;
+  split << "lateral RMSE " << replayed.lateral_rmse_m << " m, of it a common offset of "
+        << replayed.common_lateral_rms_m << " m (RMS) and a shape error of " << replayed.shape_lateral_rmse_m << " m";
+  EXPECT_NE(out.str().find(split.str()), std::string::npos) << out.str() << "\nexpected: " << split.str();
   // AND: a beacons.ini in the way is refused up front (exit 2, no staged log left behind).
   std::remove(path.c_str());
   std::ostringstream out2, err2;

@@ -102,6 +102,10 @@ int run_record_app(const RecordAppOptions& options, std::ostream& out, std::ostr
         << " bytes uncompressed), " << r.epochs << " epochs, " << r.run.run.iterations << " iterations, "
         << placement::to_string(r.run.run.status) << ", final ICN "
         << (r.run.run.trace.empty() ? 0.0 : r.run.run.trace.back().icn) << "\n"
+        << "losmimo-record: the beliefs placement used: lateral RMSE " << r.run.stats.lateral_rmse_m
+        << " m, of it a common offset of " << r.run.stats.common_lateral_rms_m << " m (RMS) and a shape error of "
+        << r.run.stats.shape_lateral_rmse_m << " m (RMSE); shape NEES " << r.run.stats.shape_nees_per_dof
+        << " per degree of freedom (1 = consistent)\n"
         << "losmimo-record: beacon map for stock MRPT apps: " << staged_beacons->final_path() << "\n";
     try {  // one UAV's stream for stock ro-localization (--ro-export), from the published log
       ro_exports->write(options.out_path, out);

@@ -120,7 +120,7 @@ struct Agreement {
 std::string agreement_line(const ExperimentSettings& s, const Agreement& a) {
   std::ostringstream md;
   md << "\n**" << a.agree << " of " << a.judged << " judged values agree** with the paper, from " << s.trials
-     << " starts per point";
+     << (s.trials == 1 ? " start" : " starts") << " per point";
   if (a.not_run > 0) md << "; " << a.not_run << " of the " << a.values << " not run here";
   if (a.not_judged > 0) md << "; " << a.not_judged << " not judged (a single trial has no confidence interval)";
   md << ". A value agrees within its 95% CI plus the plot's resolution, and the CI narrows as 1 / sqrt(n): "
