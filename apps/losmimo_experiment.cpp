@@ -19,6 +19,7 @@
 
 #include "losmimo/apps/lib/exit_codes.h"
 #include "losmimo/apps/lib/experiment_app.h"
+#include "losmimo/apps/lib/interrupt.h"
 #include "losmimo/apps/lib/experiment_scene.h"
 #include "losmimo/fusion/coevaluation/extensions.h"
 #include "losmimo/fusion/coevaluation/registries_markdown.h"
@@ -128,5 +129,8 @@ int main(int argc, char** argv) {
     return collective.rank == 0 ? worst : code;
   }
 #endif
+  // Ctrl-C: say where the finished trials are and how to continue (exit 130).
+  losmimo::apps::install_interrupt_message(losmimo::apps::experiment_interrupt_message(
+      std::vector<std::string>(argv, argv + argc), options.resume_dir ? *options.resume_dir : options.out_dir.value_or("results")));
   return losmimo::apps::run_experiment_app(options, extensions, std::cout, std::cerr);
 }

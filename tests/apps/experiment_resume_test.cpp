@@ -125,3 +125,37 @@ TEST(ExperimentResume, NothingToResume_Exits2) {
   EXPECT_NE(read_file(root / "c.log").find("nothing to resume"), std::string::npos) << read_file(root / "c.log");
   fs::remove_all(root);
 }
+
+TEST(ExperimentResume, CtrlC_Exits130_SayingWhatWasKeptAndTheCommandThatContinuesIt) {
+  const fs::path root = fs::path(::testing::TempDir()) / ("losmimo_resume_int_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  fs::create_directories(root);
+  const fs::path whole = root / "whole";
+  const fs::path stopped = root / "stopped";
+  // GIVEN: a run interrupted by SIGINT (Ctrl-C) once two points are done.
+  ASSERT_EQ(lt::run_process(app_args(whole), (root / "whole.log").string()), 0) << read_file(root / "whole.log");
+  const lt::PausedProcess p = lt::spawn_until_paused(app_args(stopped), (root / "stopped.log").string(),
+                                                     "experiment.point_done#" + std::to_string(kPointsBeforeKill));
+  ASSERT_TRUE(p.paused) << read_file(root / "stopped.log");
+  // THEN: exit 130, and a message naming the checkpoint and the exact command to continue.
+  ASSERT_EQ(lt::interrupt(p, SIGINT), 128 + SIGINT);
+  const std::string log = read_file(root / "stopped.log");
+  EXPECT_NE(log.find("interrupted; the trials finished so far are kept in " + stopped.string() + ".partial"),
+            std::string::npos)
+      << log;
+  const std::string marker = "Continue the run with:\n  ";
+  const std::size_t at = log.find(marker);
+  ASSERT_NE(at, std::string::npos) << log;
+  const std::string command = log.substr(at + marker.size(), log.find('\n', at + marker.size()) - at - marker.size());
+  EXPECT_NE(command.find("--resume " + stopped.string()), std::string::npos) << command;
+  EXPECT_EQ(command.find("--out"), std::string::npos) << command;
+  // AND: re-running the same --out says --resume, and that command, run by a shell, finishes the
+  // run with the uninterrupted run's results.
+  EXPECT_EQ(lt::run_process(app_args(stopped), (root / "again.log").string()), 2);
+  EXPECT_NE(read_file(root / "again.log").find("continue it with --resume " + stopped.string()), std::string::npos)
+      << read_file(root / "again.log");
+  ASSERT_EQ(lt::run_process({"/bin/sh", "-c", command}, (root / "resume.log").string()), 0)
+      << read_file(root / "resume.log");
+  for (const char* f : {"trials.csv", "summary.csv"}) EXPECT_EQ(read_file(stopped / f), read_file(whole / f)) << f;
+  fs::remove_all(root);
+}

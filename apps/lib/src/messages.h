@@ -20,10 +20,13 @@ inline void print_error(std::ostream& err, const std::string& app, const std::st
 // `option` names the output option ("--out"); the hint depends on whether --replace would help.
 inline void print_output_exists(std::ostream& err, const std::string& app, const OutputExistsError& e,
                                 const std::string& option) {
-  print_error(err, app,
-              std::string(option) + ": " + e.what() +
-                  (e.replaceable() ? "; choose another " + option + " or pass --replace to replace it whole"
-                                   : "; choose another " + option));
+  std::string hint = e.replaceable() ? "; choose another " + option + " or pass --replace to replace it whole"
+                                     : "; choose another " + option;
+  if (!e.resume_dir().empty()) {
+    hint = "; continue it with --resume " + e.resume_dir() + " (and the same options), choose another " + option +
+           ", or pass --replace to start it again";
+  }
+  print_error(err, app, std::string(option) + ": " + e.what() + hint);
 }
 
 // Called inside a catch (...): prints the exception being handled and returns the app's exit code.

@@ -260,7 +260,7 @@ void StagedDir::check(const std::string& final_dir, bool replace, StaleStaging s
   if (fd < 0) throw OutputExistsError(staging.string() + " is in use by a running process", false);
   ::close(fd);
   if (stale == StaleStaging::kRefuse && !replace)
-    throw OutputExistsError(staging.string() + " holds an interrupted run", true);
+    throw OutputExistsError(staging.string() + " holds an interrupted run", true, final_dir);
 }
 
 StagedDir StagedDir::create(const std::string& final_dir, bool replace, StaleStaging stale) {

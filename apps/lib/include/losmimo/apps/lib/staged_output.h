@@ -40,12 +40,15 @@ inline constexpr const char* kStagingSuffix = ".partial";
 // A run's output is in the way; replaceable(): `replace` would replace it whole.
 class OutputExistsError : public common::InputError {
  public:
-  OutputExistsError(const std::string& message, bool replaceable)
-      : common::InputError(message), replaceable_(replaceable) {}
+  OutputExistsError(const std::string& message, bool replaceable, std::string resume_dir = {})
+      : common::InputError(message), replaceable_(replaceable), resume_dir_(std::move(resume_dir)) {}
   bool replaceable() const { return replaceable_; }
+  // The folder an interrupted run there continues into with --resume; empty when none does.
+  const std::string& resume_dir() const { return resume_dir_; }
 
  private:
   bool replaceable_;
+  std::string resume_dir_;
 };
 
 struct ExistingOutput {
