@@ -157,35 +157,33 @@ experiment::ExperimentExtension::TrialFn detail::bound(const experiment::Experim
   return [&s, c, run](int point, int trial) { return run(s, *c, point, trial); };
 }
 
-experiment::ExperimentExtension beacon_noise_extension() {
+experiment::ExperimentExtension detail::make_extension(
+    const std::string& sweep, std::vector<double> (*values)(const CoevaluationSettings&), TrialOf trial,
+    decltype(experiment::ExperimentExtension::figures) figures,
+    decltype(experiment::ExperimentExtension::report_section) section) {
   register_coevaluation_planners();
   experiment::ExperimentExtension e;
-  e.sweep = kSweepBeaconNoise;
+  e.sweep = sweep;
   e.config_keys = coevaluation_config_keys();
   e.metrics = coevaluation_metrics();
-  e.load_values = [](const experiment::ExperimentSettings& s) {
-    return load_coevaluation_settings(s).beacon_noise_values_m;
-  };
-  e.bind = [](const experiment::ExperimentSettings& s) { return detail::bound(s, &run_beacon_noise_trial); };
-  e.figures = write_beacon_noise_figures;
-  e.report_section = beacon_noise_report_section;
+  e.load_values = [values](const experiment::ExperimentSettings& s) { return values(load_coevaluation_settings(s)); };
+  e.bind = [trial](const experiment::ExperimentSettings& s) { return bound(s, trial); };
+  e.figures = std::move(figures);
+  e.report_section = std::move(section);
   return e;
 }
 
+experiment::ExperimentExtension beacon_noise_extension() {
+  return detail::make_extension(
+      kSweepBeaconNoise, [](const CoevaluationSettings& c) { return c.beacon_noise_values_m; },
+      &run_beacon_noise_trial, write_beacon_noise_figures, beacon_noise_report_section);
+}
+
 experiment::ExperimentExtension beacon_outage_extension() {
-  register_coevaluation_planners();
-  experiment::ExperimentExtension e;
-  e.sweep = kSweepBeaconOutage;
-  e.config_keys = coevaluation_config_keys();
-  e.metrics = coevaluation_metrics();
-  e.load_values = [](const experiment::ExperimentSettings& s) {
-    const std::vector<int> k = load_coevaluation_settings(s).outage_values;
-    return std::vector<double>(k.begin(), k.end());
-  };
-  e.bind = [](const experiment::ExperimentSettings& s) { return detail::bound(s, &run_outage_trial); };
-  e.figures = write_outage_figures;
-  e.report_section = outage_report_section;
-  return e;
+  return detail::make_extension(
+      kSweepBeaconOutage,
+      [](const CoevaluationSettings& c) { return std::vector<double>(c.outage_values.begin(), c.outage_values.end()); },
+      &run_outage_trial, write_outage_figures, outage_report_section);
 }
 
 }  // namespace losmimo::coevaluation

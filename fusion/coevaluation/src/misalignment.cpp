@@ -21,18 +21,9 @@ std::vector<experiment::TrialRecord> run_misalignment_trial(const experiment::Ex
 }
 
 experiment::ExperimentExtension misalignment_extension() {
-  register_coevaluation_planners();
-  experiment::ExperimentExtension e;
-  e.sweep = kSweepMisalignment;
-  e.config_keys = coevaluation_config_keys();
-  e.metrics = coevaluation_metrics();
-  e.load_values = [](const experiment::ExperimentSettings& s) {
-    return load_coevaluation_settings(s).misalignment_values_rad;
-  };
-  e.bind = [](const experiment::ExperimentSettings& s) { return detail::bound(s, &run_misalignment_trial); };
-  e.figures = write_misalignment_figures;
-  e.report_section = misalignment_report_section;
-  return e;
+  return detail::make_extension(
+      kSweepMisalignment, [](const CoevaluationSettings& c) { return c.misalignment_values_rad; },
+      &run_misalignment_trial, write_misalignment_figures, misalignment_report_section);
 }
 
 }  // namespace losmimo::coevaluation

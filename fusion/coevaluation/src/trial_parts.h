@@ -33,6 +33,13 @@ using TrialOf = std::vector<experiment::TrialRecord> (*)(const experiment::Exper
                                                          const CoevaluationSettings&, int, int);
 experiment::ExperimentExtension::TrialFn bound(const experiment::ExperimentSettings& s, TrialOf run);
 
+// A co-evaluation sweep's extension: its sweep points from the parsed settings, its trial
+// function bound once per run, its figures and report section.
+experiment::ExperimentExtension make_extension(const std::string& sweep,
+                                               std::vector<double> (*values)(const CoevaluationSettings&),
+                                               TrialOf trial, decltype(experiment::ExperimentExtension::figures) figures,
+                                               decltype(experiment::ExperimentExtension::report_section) section);
+
 // The record of gd's closed loop under `config` for row `name` (metrics from its statistics).
 experiment::TrialRecord closed_loop_record(const experiment::ExperimentSettings& s, const std::string& sweep, int point,
                                            int trial, const std::string& name, const fusion::ClosedLoopConfig& config);
