@@ -46,7 +46,7 @@ TEST(CoevaluationKeys, Defaults_AreTheClosedLoopsForTheSharedKeys) {
   EXPECT_EQ(record.refinement.use_csi, c.closed_loop.refinement.use_csi);
   EXPECT_EQ(to_ini(c),
             "[coevaluation]\nbeacon_noise_values_m = 0, 0.02, 0.04, 0.06, 0.08, 0.1, 0.12, 0.14, 0.16, 0.18\n"
-            "algorithms = gd_gauss, gd_ekf, gd_gauss_matched, gd_pf, gd_ekf_ceres, bf, ura_ekf, "
+            "algorithms = gd_gauss, gd_ekf, gd_gauss_matched, gd_gauss_shape_matched, gd_pf, gd_ekf_ceres, bf, ura_ekf, "
             "centralized\nura_variant = rigid\n"
             "outage_values = 0, 2, 4, 8\noutage_algorithms = gd_ekf, gd_ekf_nofallback\noutage_first_epoch = 10\n"
             "outage_epochs = 30\noutage_degraded_after_epochs = 5\noutage_beacon_noise_m = 0.1\n"

@@ -28,7 +28,7 @@
 //                   The experiment's GD as gd_gauss is: run_algorithm, the same seed.
 //   - gd_gauss_shape_matched  the same at gd_ekf's shape error (common lateral offset and
 //                   rotation about boresight removed, the error the channel sees): its expected
-//                   shape RMSE equals gd_ekf's shape_lateral_rmse_m. Not a default row.
+//                   shape RMSE equals gd_ekf's shape_lateral_rmse_m.
 //   - gd_ekf, gd_pf, gd_ekf_ceres   the closed loop (closed_loop.h) with the EKF, the particle
 //                   filter, and the EKF with Ceres CSI refinement; BF fallback on.
 //   - gd_ekf_nofallback             gd_ekf with the BF fallback off.
@@ -96,7 +96,8 @@ struct CoevaluationSettings {
   std::vector<double> beacon_noise_values_m = {0.0, 0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.14, 0.16, 0.18};
   // The rows (estimator_registry.h), resolved: ura_ekf's planner is ura_variant's URA.
   std::vector<CoevalRow> algorithms =
-      aliased_rows({"gd_gauss", "gd_ekf", "gd_gauss_matched", "gd_pf", "gd_ekf_ceres", "bf", "ura_ekf", "centralized"});
+      aliased_rows({"gd_gauss", "gd_ekf", "gd_gauss_matched", "gd_gauss_shape_matched", "gd_pf", "gd_ekf_ceres", "bf",
+                    "ura_ekf", "centralized"});
   // The [closed_loop] keys shared with losmimo-record, as ClosedLoopConfig holds them:
   // simulator.sigma_range_m (the beacon's range 1-sigma at every point), simulator.dr_sigma_*,
   // filter.num_particles, refinement.window_epochs and refinement.use_csi. The rest of a run's
