@@ -131,6 +131,7 @@ int main(int argc, char** argv) {
 #endif
   // Ctrl-C: say where the finished trials are and how to continue (exit 130).
   losmimo::apps::install_interrupt_message(losmimo::apps::experiment_interrupt_message(
-      std::vector<std::string>(argv, argv + argc), options.resume_dir ? *options.resume_dir : options.out_dir.value_or("results")));
+      std::vector<std::string>(argv, argv + argc),
+      options.resume_dir ? *options.resume_dir : options.out_dir.value_or("results")));
   return losmimo::apps::run_experiment_app(options, extensions, std::cout, std::cerr);
 }

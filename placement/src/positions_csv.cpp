@@ -159,8 +159,7 @@ Eigen::Matrix3Xd parse_positions_csv(std::istream& in, const std::string& origin
     }
   }
   if (!choices.empty()) {
-    throw common::InputError(origin + ": holds several swarms; pick one with --select column=value (" + choices +
-                             ")");
+    throw common::InputError(origin + ": holds several swarms; pick one with --select column=value (" + choices + ")");
   }
   Eigen::Matrix3Xd q(3, rows.size());
   for (std::size_t n = 0; n < rows.size(); ++n) q.col(n) = rows[n];

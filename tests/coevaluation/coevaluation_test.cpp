@@ -26,8 +26,9 @@ namespace lp = placement;
 
 constexpr int kTrials = 2;
 constexpr double kLargestNoise_m = 0.18;
-const std::vector<std::string> kBeaconAlgorithms = {"gd_gauss",     "gd_ekf", "gd_gauss_matched", "gd_pf",
-                                                    "gd_ekf_ceres", "bf",     "ura_ekf",          "centralized"};
+const std::vector<std::string> kBeaconAlgorithms = {
+    "gd_gauss", "gd_ekf",  "gd_gauss_matched", "gd_gauss_shape_matched", "gd_pf", "gd_ekf_ceres",
+    "bf",       "ura_ekf", "centralized"};
 const std::vector<std::string> kOutageAlgorithms = {"gd_ekf", "gd_ekf_nofallback"};
 const std::vector<int> kOutageValues = {0, 4};
 
@@ -99,10 +100,11 @@ losmimo::experiment::ExperimentSettings settings_from(const std::vector<std::str
   return losmimo::experiment::load_experiment_settings(config, experiment_extensions());
 }
 
-// A gd_gauss_matched row: its Gaussian has gd_ekf's measured lateral RMSE of the same trial and
-// point, and its paired differences are gd_ekf's columns minus its own.
+// A matched Gaussian row: its Gaussian has gd_ekf's measured `matched` error (loc_lateral_rmse_m,
+// shape_lateral_rmse_m) of the same trial and point, and its paired differences are gd_ekf's
+// columns minus its own.
 void expect_matched_row(const std::map<std::string, std::string>& r,
-                        const std::vector<std::map<std::string, std::string>>& rows) {
+                        const std::vector<std::map<std::string, std::string>>& rows, const std::string& matched) {
   // THEN (the matched error): its Gaussian has gd_ekf's measured lateral RMSE of the same
   // trial and point.
   const auto ekf = std::find_if(rows.begin(), rows.end(), [&](const auto& o) {
@@ -110,9 +112,9 @@ void expect_matched_row(const std::map<std::string, std::string>& r,
            o.at("algorithm") == "gd_ekf";
   });
   ASSERT_NE(ekf, rows.end());
-  const double ekf_lateral_m = number(*ekf, "loc_lateral_rmse_m");
-  EXPECT_GT(ekf_lateral_m, 0.0);
-  EXPECT_NEAR(number(r, "loc_lateral_rmse_m"), ekf_lateral_m, 1e-9 * ekf_lateral_m + 1e-12);
+  const double ekf_error_m = number(*ekf, matched);
+  EXPECT_GT(ekf_error_m, 0.0);
+  EXPECT_NEAR(number(r, matched), ekf_error_m, 1e-9 * ekf_error_m + 1e-12);
   EXPECT_TRUE(std::isnan(number(r, "nees")));
   // THEN: the paired differences are gd_ekf's columns minus its own, from the CSV.
   const double travel_m = number(*ekf, "dist_to_icn095_m") - number(r, "dist_to_icn095_m");
@@ -177,8 +179,8 @@ TEST(CoevaluationApp, TinyConfig_EveryAlgorithmAndColumn_SameBytesInOneAndTwoThr
       EXPECT_NEAR(number(r, "loc_lateral_rmse_m"), std::sqrt(2.0) * value, 1e-9);  // CSV: 10 digits
       continue;
     }
-    if (a == "gd_gauss_matched") {
-      expect_matched_row(r, rows);
+    if (a == "gd_gauss_matched" || a == "gd_gauss_shape_matched") {
+      expect_matched_row(r, rows, a == "gd_gauss_matched" ? "loc_lateral_rmse_m" : "shape_lateral_rmse_m");
       continue;
     }
     EXPECT_TRUE(std::isnan(number(r, "paired_travel_diff_m"))) << a;

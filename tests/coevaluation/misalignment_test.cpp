@@ -23,9 +23,9 @@ constexpr double kBias_rad = 0.0009765625;  // ~1 mrad, exact in INI text
 experiment::ExperimentSettings settings(const std::vector<std::string>& sets) {
   common::IniConfig cfg;
   for (const char* s :
-       {"experiment.sweeps=bs_misalignment_rad", "experiment.trials=1", "experiment.plots=false",
-        "scenario.bs_rows=2", "scenario.bs_cols=2", "scenario.num_uavs=4", "scenario.bs_spacing_m=1",
-        "placement.max_iterations=40", "errors.sigma_act_m=0", "coevaluation.misalignment_values_rad=0, 0.0009765625"})
+       {"experiment.sweeps=bs_misalignment_rad", "experiment.trials=1", "experiment.plots=false", "scenario.bs_rows=2",
+        "scenario.bs_cols=2", "scenario.num_uavs=4", "scenario.bs_spacing_m=1", "placement.max_iterations=40",
+        "errors.sigma_act_m=0", "coevaluation.misalignment_values_rad=0, 0.0009765625"})
     cfg.set_override(s);
   for (const std::string& s : sets) cfg.set_override(s);
   return experiment::load_experiment_settings(cfg, experiment_extensions());
@@ -62,8 +62,8 @@ TEST(MisalignmentSweep, MatchedGaussians_TakeGdEkfsAbsoluteShapeAndCommonErrors)
   const experiment::TrialRecord& ekf = record_of(records, "gd_ekf");
   // THEN: each matched row's expected error (by construction of its sigmas) is the ekf's measured
   // one, in the measure it matches.
-  EXPECT_NEAR(record_of(records, "gd_gauss_matched").extension.at(kLocLateralRmse),
-              ekf.extension.at(kLocLateralRmse), 1e-12);
+  EXPECT_NEAR(record_of(records, "gd_gauss_matched").extension.at(kLocLateralRmse), ekf.extension.at(kLocLateralRmse),
+              1e-12);
   EXPECT_NEAR(record_of(records, "gd_gauss_shape_matched").extension.at(kShapeLateralRmse),
               ekf.extension.at(kShapeLateralRmse), 1e-12);
   const experiment::TrialRecord& split = record_of(records, "gd_gauss_split_matched");
@@ -144,8 +144,7 @@ TEST(ErrorMeasureSection, CorrelationsAreSpearmansAndPearsons_AndNameTheStronger
   EXPECT_NE(md.find("| `bs_misalignment_rad` | final ICN | 4 | 0.40 ("), std::string::npos) << md;
   EXPECT_NE(md.find("| -1.00 (-1.00) | shape RMSE |"), std::string::npos) << md;
   // AND: Pearson's on the hand-worked beacon-noise points, and a constant column is not evaluated.
-  EXPECT_NE(md.find("| `beacon_noise_m` | final ICN | 3 | 1.00 (0.99) | n/a (n/a) | not evaluated"),
-            std::string::npos)
+  EXPECT_NE(md.find("| `beacon_noise_m` | final ICN | 3 | 1.00 (0.99) | n/a (n/a) | not evaluated"), std::string::npos)
       << md;
   // AND: the pooled points appear as their own group.
   EXPECT_NE(md.find("| all of them | final ICN | 7 |"), std::string::npos) << md;

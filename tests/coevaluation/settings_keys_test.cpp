@@ -44,17 +44,18 @@ TEST(CoevaluationKeys, Defaults_AreTheClosedLoopsForTheSharedKeys) {
   EXPECT_EQ(record.filter.num_particles, c.closed_loop.filter.num_particles);
   EXPECT_EQ(record.refinement.window_epochs, c.closed_loop.refinement.window_epochs);
   EXPECT_EQ(record.refinement.use_csi, c.closed_loop.refinement.use_csi);
-  EXPECT_EQ(to_ini(c),
-            "[coevaluation]\nbeacon_noise_values_m = 0, 0.02, 0.04, 0.06, 0.08, 0.1, 0.12, 0.14, 0.16, 0.18\n"
-            "algorithms = gd_gauss, gd_ekf, gd_gauss_matched, gd_gauss_shape_matched, gd_pf, gd_ekf_ceres, bf, ura_ekf, "
-            "centralized\nura_variant = rigid\n"
-            "outage_values = 0, 2, 4, 8\noutage_algorithms = gd_ekf, gd_ekf_nofallback\noutage_first_epoch = 10\n"
-            "outage_epochs = 30\noutage_degraded_after_epochs = 5\noutage_beacon_noise_m = 0.1\n"
-            "misalignment_values_rad = 0, 0.000244140625, 0.00048828125, 0.0009765625, 0.001953125\n"
-            "misalignment_algorithms = gd_gauss, gd_ekf, gd_gauss_matched, gd_gauss_shape_matched, "
-            "gd_gauss_split_matched, bf\nmisalignment_beacon_noise_m = 0.02\n\n"
-            "[closed_loop]\nbeacon_sigma_range_m = 0.1\ndr_sigma_floor_m = 0.01\ndr_sigma_fraction = 0.02\n"
-            "num_particles = 1000\nwindow_epochs = 5\nuse_csi = true\n");
+  EXPECT_EQ(
+      to_ini(c),
+      "[coevaluation]\nbeacon_noise_values_m = 0, 0.02, 0.04, 0.06, 0.08, 0.1, 0.12, 0.14, 0.16, 0.18\n"
+      "algorithms = gd_gauss, gd_ekf, gd_gauss_matched, gd_gauss_shape_matched, gd_pf, gd_ekf_ceres, bf, ura_ekf, "
+      "centralized\nura_variant = rigid\n"
+      "outage_values = 0, 2, 4, 8\noutage_algorithms = gd_ekf, gd_ekf_nofallback\noutage_first_epoch = 10\n"
+      "outage_epochs = 30\noutage_degraded_after_epochs = 5\noutage_beacon_noise_m = 0.1\n"
+      "misalignment_values_rad = 0, 0.000244140625, 0.00048828125, 0.0009765625, 0.001953125\n"
+      "misalignment_algorithms = gd_gauss, gd_ekf, gd_gauss_matched, gd_gauss_shape_matched, "
+      "gd_gauss_split_matched, bf\nmisalignment_beacon_noise_m = 0.02\n\n"
+      "[closed_loop]\nbeacon_sigma_range_m = 0.1\ndr_sigma_floor_m = 0.01\ndr_sigma_fraction = 0.02\n"
+      "num_particles = 1000\nwindow_epochs = 5\nuse_csi = true\n");
 }
 
 TEST(CoevaluationKeys, EveryKeysExample_RoundTripsThroughToIni) {

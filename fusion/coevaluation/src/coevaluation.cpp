@@ -175,8 +175,8 @@ experiment::ExperimentExtension detail::make_extension(
 
 experiment::ExperimentExtension beacon_noise_extension() {
   return detail::make_extension(
-      kSweepBeaconNoise, [](const CoevaluationSettings& c) { return c.beacon_noise_values_m; },
-      &run_beacon_noise_trial, write_beacon_noise_figures, beacon_noise_report_section);
+      kSweepBeaconNoise, [](const CoevaluationSettings& c) { return c.beacon_noise_values_m; }, &run_beacon_noise_trial,
+      write_beacon_noise_figures, beacon_noise_report_section);
 }
 
 experiment::ExperimentExtension beacon_outage_extension() {

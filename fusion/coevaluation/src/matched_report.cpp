@@ -48,9 +48,10 @@ std::string matched_error_section(const std::vector<SummaryRow>& rows, const std
     if (!a || !b) continue;
     const Estimate* travel = b->metric(kPairedTravelDiff);
     const Estimate* sigma = b->metric(m.matched);
-    md << "| " << (sweep == kSweepMisalignment ? fmt(1e3 * v, 3) : fmt(v, 3)) << " | " << (sigma && sigma->n > 0 ? fmt(sigma->mean / m.matched_per_sigma, 4) : "n/a")
-       << " | " << converged(*a) << " / " << converged(*b) << " | " << fmt_estimate(a->metric(metrics::kDistToIcn095M))
-       << " | " << fmt_estimate(b->metric(metrics::kDistToIcn095M)) << " | " << fmt_estimate(travel) << " | "
+    md << "| " << (sweep == kSweepMisalignment ? fmt(1e3 * v, 3) : fmt(v, 3)) << " | "
+       << (sigma && sigma->n > 0 ? fmt(sigma->mean / m.matched_per_sigma, 4) : "n/a") << " | " << converged(*a) << " / "
+       << converged(*b) << " | " << fmt_estimate(a->metric(metrics::kDistToIcn095M)) << " | "
+       << fmt_estimate(b->metric(metrics::kDistToIcn095M)) << " | " << fmt_estimate(travel) << " | "
        << fmt_estimate(b->metric(kPairedIterationsDiff), 1) << " | ";
     if (!travel || travel->n < 2 || !std::isfinite(travel->ci95)) {
       md << "not evaluated (fewer than 2 paired trials)";

@@ -168,32 +168,31 @@ std::vector<std::string> write_misalignment_figures(const experiment::Experiment
   const fs::path dir(out_dir);
   const std::vector<std::string> algorithms = algorithms_of(rows, kSweepMisalignment);
   if (algorithms.empty()) return {};
-  common::write_file_atomically((dir / "misalignment.dat").string(),
-                                dat(rows, kSweepMisalignment, algorithms,
-                                    {kLocLateralRmse, kShapeLateralRmse, metrics::kFinalIcn, metrics::kSinrNvDb,
-                                     metrics::kDistToIcn095M}));
+  common::write_file_atomically(
+      (dir / "misalignment.dat").string(),
+      dat(rows, kSweepMisalignment, algorithms,
+          {kLocLateralRmse, kShapeLateralRmse, metrics::kFinalIcn, metrics::kSinrNvDb, metrics::kDistToIcn095M}));
   std::ostringstream g;
-  g << gp_header("misalignment.png", 1500, 500) << "set multiplot layout 1,3\nset xlabel 'BS azimuth misalignment [mrad]'\n"
+  g << gp_header("misalignment.png", 1500, 500)
+    << "set multiplot layout 1,3\nset xlabel 'BS azimuth misalignment [mrad]'\n"
     << "set key inside top left\nset title 'Lateral RMSE (solid) and shape RMSE (dotted)'\nset ylabel 'RMSE [m]'\n"
     << "set logscale y\nplot ";
   for (std::size_t i = 0; i < algorithms.size(); ++i) {
     const std::string c = color(algorithms[i]);
-    g << (i ? ", " : "") << "'misalignment.dat' index " << i << " using ($1*1000):2 with linespoints lw 2 lc rgb '"
-      << c << "' title '" << algorithms[i] << "', '' index " << i
-      << " using ($1*1000):4 with linespoints lw 2 dt 3 lc rgb '" << c << "' notitle";
+    g << (i ? ", " : "") << "'misalignment.dat' index " << i << " using ($1*1000):2 with linespoints lw 2 lc rgb '" << c
+      << "' title '" << algorithms[i] << "', '' index " << i << " using ($1*1000):4 with linespoints lw 2 dt 3 lc rgb '"
+      << c << "' notitle";
   }
   g << "\nunset logscale y\nset key inside bottom left\nset title 'Final NV SINR of stream 1'\nset ylabel 'SINR [dB]'\n"
     << "plot ";
   for (std::size_t i = 0; i < algorithms.size(); ++i) {
-    g << (i ? ", " : "") << "'misalignment.dat' index " << i
-      << " using ($1*1000):8:9 with yerrorlines lw 2 lc rgb '" << color(algorithms[i]) << "' title '"
-      << algorithms[i] << "'";
+    g << (i ? ", " : "") << "'misalignment.dat' index " << i << " using ($1*1000):8:9 with yerrorlines lw 2 lc rgb '"
+      << color(algorithms[i]) << "' title '" << algorithms[i] << "'";
   }
   g << "\nset key inside top left\nset title 'Travel per UAV to ICN 0.95'\nset ylabel 'distance [m]'\nplot ";
   for (std::size_t i = 0; i < algorithms.size(); ++i) {
-    g << (i ? ", " : "") << "'misalignment.dat' index " << i
-      << " using ($1*1000):10:11 with yerrorlines lw 2 lc rgb '" << color(algorithms[i]) << "' title '"
-      << algorithms[i] << "'";
+    g << (i ? ", " : "") << "'misalignment.dat' index " << i << " using ($1*1000):10:11 with yerrorlines lw 2 lc rgb '"
+      << color(algorithms[i]) << "' title '" << algorithms[i] << "'";
   }
   g << "\nunset multiplot\n";
   common::write_file_atomically((dir / "misalignment.gp").string(), g.str());
@@ -226,9 +225,8 @@ std::string misalignment_report_section(const experiment::ExperimentSettings& s,
       md << "| " << fmt(1e3 * v, 3) << " | " << a << " | " << converged(*r) << " | "
          << fmt_estimate(r->metric(metrics::kFinalIcn), 4) << " | " << fmt_estimate(r->metric(metrics::kSinrNvDb))
          << " | " << fmt_estimate(r->metric(metrics::kDistToIcn095M)) << " | "
-         << fmt_estimate(r->metric(kLocLateralRmse), 3) << " | " << fmt_estimate(r->metric(kCommonLateral), 3)
-         << " | " << fmt_estimate(r->metric(kShapeLateralRmse), 3) << " | " << fmt_estimate(r->metric(kShapeNees))
-         << " |\n";
+         << fmt_estimate(r->metric(kLocLateralRmse), 3) << " | " << fmt_estimate(r->metric(kCommonLateral), 3) << " | "
+         << fmt_estimate(r->metric(kShapeLateralRmse), 3) << " | " << fmt_estimate(r->metric(kShapeNees)) << " |\n";
     }
   }
   md << matched_error_sections(s, rows, kSweepMisalignment, values) << error_measure_section(rows);

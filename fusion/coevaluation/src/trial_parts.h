@@ -37,7 +37,8 @@ experiment::ExperimentExtension::TrialFn bound(const experiment::ExperimentSetti
 // function bound once per run, its figures and report section.
 experiment::ExperimentExtension make_extension(const std::string& sweep,
                                                std::vector<double> (*values)(const CoevaluationSettings&),
-                                               TrialOf trial, decltype(experiment::ExperimentExtension::figures) figures,
+                                               TrialOf trial,
+                                               decltype(experiment::ExperimentExtension::figures) figures,
                                                decltype(experiment::ExperimentExtension::report_section) section);
 
 // The record of gd's closed loop under `config` for row `name` (metrics from its statistics).

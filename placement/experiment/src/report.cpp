@@ -245,9 +245,10 @@ ReportOutcome write_figures_and_report(const ExperimentSettings& s, const Experi
   if (builtin) md << paper_table(s, rows, readings, differences, agreement) << agreement_line(s, agreement);
   md << abstract_claims(s, rows);
   if (builtin) md << "\n## Differences larger than the confidence interval\n\n";
-  if (builtin && differences.empty()) md << (agreement.judged == 0 ? "None judged: no paper value was measured "
-                                                                     "with a confidence interval in this run.\n"
-                                                                   : "None.\n");
+  if (builtin && differences.empty())
+    md << (agreement.judged == 0 ? "None judged: no paper value was measured "
+                                   "with a confidence interval in this run.\n"
+                                 : "None.\n");
   for (const std::string& d : differences) md << "- " << d << "\n";
   if (!readings.empty()) md << "\n" << readings_section(readings);
   for (const ExperimentExtension& e : extensions) {

@@ -95,9 +95,8 @@ inline const std::string kSweepMisalignment = "bs_misalignment_rad";
 struct CoevaluationSettings {
   std::vector<double> beacon_noise_values_m = {0.0, 0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.14, 0.16, 0.18};
   // The rows (estimator_registry.h), resolved: ura_ekf's planner is ura_variant's URA.
-  std::vector<CoevalRow> algorithms =
-      aliased_rows({"gd_gauss", "gd_ekf", "gd_gauss_matched", "gd_gauss_shape_matched", "gd_pf", "gd_ekf_ceres", "bf",
-                    "ura_ekf", "centralized"});
+  std::vector<CoevalRow> algorithms = aliased_rows({"gd_gauss", "gd_ekf", "gd_gauss_matched", "gd_gauss_shape_matched",
+                                                    "gd_pf", "gd_ekf_ceres", "bf", "ura_ekf", "centralized"});
   // The [closed_loop] keys shared with losmimo-record, as ClosedLoopConfig holds them:
   // simulator.sigma_range_m (the beacon's range 1-sigma at every point), simulator.dr_sigma_*,
   // filter.num_particles, refinement.window_epochs and refinement.use_csi. The rest of a run's
